@@ -1,0 +1,103 @@
+// Quickhull in 3D, writing a half-edge convex polyhedron with convex polygon
+// faces (Barber, Dobkin, Huhdanpaa 1996; face merging during construction as
+// in Gregorius, "Implementing Quickhull", GDC 2014).
+//
+// Outline:
+//   1. Reject empty or non-finite input (the error names the first bad point).
+//   2. Recentre the points on their bounding-box centre and derive the
+//      tolerance from the recentred extent:
+//        eps = 3 * DBL_EPSILON * (max|x| + max|y| + max|z|),
+//      so that coordinates far from the origin coarsen nothing.
+//   3. Initial simplex from extreme points: the farthest pair of the six
+//      axis-extreme points, the farthest point from their line, the farthest
+//      point from that plane. Whenever one of these spans is <= eps the input
+//      is degenerate and the hull is a point, a segment, or a flat convex
+//      polygon (a 2D hull in the best-fit plane, stored as two back-to-back
+//      faces).
+//   4. Every point goes to the conflict list of a face it lies more than eps
+//      in front of (the farthest such face for the initial simplex, the first
+//      one afterwards); points in front of no face are inside and dropped.
+//   5. Repeatedly take the farthest conflict point of a face (the eye), find
+//      the faces it sees by a depth-first walk over the half-edges, whose
+//      border is the horizon, replace them by a cone of triangles from the
+//      horizon to the eye, merge each new face with any neighbour it is not
+//      clearly convex with (centroid of either face less than eps behind the
+//      other's plane), repair the topology the merge leaves (redundant
+//      vertices of degree two, swallowed triangles), and hand the orphaned
+//      conflict points of the removed faces to the new faces.
+//   6. Compact the working structure into a HalfEdgeMesh whose vertices are
+//      exactly input points (QuickhullResult::input_index maps them back).
+//
+// Invariants kept between iterations: the working structure is a closed
+// 2-manifold; every edge is convex within eps; every conflict point is more
+// than eps in front of its face. Each iteration consumes one point for good,
+// so the loop runs at most n times; the cap is still checked and reported.
+#pragma once
+
+#include <hedra/hull/half_edge_mesh.hpp>
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hedra::hull {
+
+enum class QuickhullStatus {
+  ok,
+  empty_input,        // no points at all
+  non_finite_input,   // a NaN or infinite coordinate; error names the point
+  iteration_limit,    // the iteration cap was hit (the mesh is the hull so far)
+  topology_failure,   // an internal consistency check failed (never expected)
+};
+
+const char* to_string(QuickhullStatus status);
+
+struct QuickhullOptions {
+  // Points within this distance of a face plane count as on it. 0 (the
+  // default) derives it from the input as described above.
+  double tolerance = 0.0;
+  // Cap on the number of points added to the hull; 0 means the number of
+  // input points (the most the algorithm can ever need).
+  std::size_t max_iterations = 0;
+};
+
+struct QuickhullResult {
+  QuickhullStatus status = QuickhullStatus::ok;
+  std::string error;              // human-readable reason when status != ok
+  HalfEdgeMesh mesh;              // the hull; vertex positions are input points
+  std::vector<Index> input_index;  // mesh vertex -> index of the input point
+  double tolerance = 0.0;          // the eps used (also mesh.tolerance())
+  int dimension = -1;              // 0 point, 1 segment, 2 polygon, 3 solid
+  std::size_t iterations = 0;      // points added after the initial simplex
+
+  bool ok() const { return status == QuickhullStatus::ok; }
+};
+
+// Builds hulls, keeping its working memory between calls so that repeated
+// builds allocate little. Not thread-safe; use one builder per thread.
+class QuickhullBuilder {
+ public:
+  QuickhullBuilder();
+  ~QuickhullBuilder();
+  QuickhullBuilder(QuickhullBuilder&&) noexcept;
+  QuickhullBuilder& operator=(QuickhullBuilder&&) noexcept;
+
+  QuickhullResult build(const Eigen::Vector3d* points, std::size_t count, const QuickhullOptions& options = {});
+  QuickhullResult build(const std::vector<Eigen::Vector3d>& points, const QuickhullOptions& options = {}) {
+    return build(points.data(), points.size(), options);
+  }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// One-shot convenience.
+QuickhullResult build_hull(const std::vector<Eigen::Vector3d>& points, const QuickhullOptions& options = {});
+
+// Largest distance of any point in front of any face of `mesh` (0 when all
+// are inside or on it). For a point or segment hull, the distance to it.
+double max_outside_distance(const HalfEdgeMesh& mesh, const std::vector<Eigen::Vector3d>& points);
+
+}  // namespace hedra::hull

@@ -1,0 +1,315 @@
+// Half-edge mesh: plane fitting, construction from polygons, and the
+// validator. The validator never trusts the structure: every walk is bounded
+// by the number of half-edges and every index is range-checked before use.
+#include <hedra/hull/half_edge_mesh.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+
+namespace hedra::hull {
+
+std::string ValidationReport::to_string() const {
+  std::string s;
+  for (const auto& e : errors) {
+    s += e;
+    s += '\n';
+  }
+  return s;
+}
+
+int HalfEdgeMesh::dimension() const {
+  if (vertices.empty()) return -1;
+  if (faces.empty()) return vertices.size() == 1 ? 0 : 1;
+  return faces.size() == 2 ? 2 : 3;
+}
+
+std::size_t HalfEdgeMesh::face_degree(Index f) const {
+  std::size_t n = 0;
+  for (Index e : face_edges(f)) {
+    (void)e;
+    ++n;
+  }
+  return n;
+}
+
+std::size_t HalfEdgeMesh::vertex_degree(Index v) const {
+  std::size_t n = 0;
+  for (Index e : vertex_outgoing(v)) {
+    (void)e;
+    ++n;
+  }
+  return n;
+}
+
+Eigen::Vector3d HalfEdgeMesh::face_centroid(Index f) const {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  double n = 0;
+  for (Index v : face_vertices(f)) {
+    c += position(v);
+    n += 1;
+  }
+  return n > 0 ? Eigen::Vector3d(c / n) : c;
+}
+
+void HalfEdgeMesh::update_plane(Index f) {
+  // Newell's method, around the vertex average so that large coordinates do
+  // not cancel: n = sum over edges (p_i - c) x (p_{i+1} - c) = 2 * area * normal.
+  const Eigen::Vector3d c = face_centroid(f);
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (Index e : face_edges(f)) {
+    n += (position(origin(e)) - c).cross(position(destination(e)) - c);
+  }
+  const double len = n.norm();
+  Plane& pl = faces[f].plane;
+  pl.normal = len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+  pl.offset = pl.normal.dot(c);
+}
+
+void HalfEdgeMesh::update_planes() {
+  for (Index f = 0; f < faces.size(); ++f) update_plane(f);
+}
+
+Index HalfEdgeMesh::extreme_vertex(const Eigen::Vector3d& d) const {
+  Index best = kInvalidIndex;
+  double best_value = -std::numeric_limits<double>::infinity();
+  for (Index v = 0; v < vertices.size(); ++v) {
+    const double value = d.dot(vertices[v].position);
+    if (value > best_value) {
+      best_value = value;
+      best = v;
+    }
+  }
+  return best;
+}
+
+void HalfEdgeMesh::rebuild_vertex_links() {
+  for (auto& v : vertices) v.edge = kInvalidIndex;
+  for (Index e = 0; e < edges.size(); ++e) {
+    const Index v = edges[e].origin;
+    if (v < vertices.size() && vertices[v].edge == kInvalidIndex) vertices[v].edge = e;
+  }
+}
+
+std::vector<std::vector<Index>> HalfEdgeMesh::polygons() const {
+  std::vector<std::vector<Index>> out;
+  out.reserve(faces.size());
+  for (Index f = 0; f < faces.size(); ++f) {
+    std::vector<Index> poly;
+    for (Index v : face_vertices(f)) poly.push_back(v);
+    out.push_back(std::move(poly));
+  }
+  return out;
+}
+
+bool HalfEdgeMesh::from_polygons(const std::vector<Eigen::Vector3d>& positions,
+                                 const std::vector<std::vector<Index>>& polygons, HalfEdgeMesh& out,
+                                 std::string* error) {
+  auto fail = [&](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  HalfEdgeMesh m;
+  m.vertices.reserve(positions.size());
+  for (const auto& p : positions) m.vertices.push_back({p, kInvalidIndex});
+  std::size_t half_edges = 0;
+  for (const auto& poly : polygons) half_edges += poly.size();
+  m.edges.reserve(half_edges);
+  m.faces.reserve(polygons.size());
+  std::unordered_map<std::uint64_t, Index> by_vertices;  // (origin, destination) -> half-edge
+  by_vertices.reserve(half_edges * 2);
+  auto key = [](Index a, Index b) { return (std::uint64_t(a) << 32) | b; };
+
+  for (std::size_t f = 0; f < polygons.size(); ++f) {
+    const auto& poly = polygons[f];
+    if (poly.size() < 3) return fail("face " + std::to_string(f) + " has fewer than 3 vertices");
+    const Index first = static_cast<Index>(m.edges.size());
+    const Index n = static_cast<Index>(poly.size());
+    for (Index i = 0; i < n; ++i) {
+      const Index a = poly[i];
+      const Index b = poly[(i + 1) % n];
+      if (a >= positions.size() || b >= positions.size())
+        return fail("face " + std::to_string(f) + " has a vertex index out of range");
+      if (a == b) return fail("face " + std::to_string(f) + " repeats vertex " + std::to_string(a));
+      HalfEdge h;
+      h.origin = a;
+      h.face = static_cast<Index>(f);
+      h.next = first + (i + 1) % n;
+      h.prev = first + (i + n - 1) % n;
+      const Index e = static_cast<Index>(m.edges.size());
+      if (!by_vertices.emplace(key(a, b), e).second)
+        return fail("edge " + std::to_string(a) + "->" + std::to_string(b) + " is used twice in the same direction");
+      m.edges.push_back(h);
+    }
+    Face face;
+    face.edge = first;
+    m.faces.push_back(face);
+  }
+  for (Index e = 0; e < m.edges.size(); ++e) {
+    const Index a = m.edges[e].origin;
+    const Index b = m.edges[m.edges[e].next].origin;
+    auto it = by_vertices.find(key(b, a));
+    if (it == by_vertices.end())
+      return fail("edge " + std::to_string(a) + "->" + std::to_string(b) + " has no opposite (open surface)");
+    m.edges[e].twin = it->second;
+  }
+  m.rebuild_vertex_links();
+  m.update_planes();
+  // A tolerance in the spirit of the builder's, from the extent of the input.
+  double extent = 0;
+  for (const auto& p : positions) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+  m.tolerance_ = 16 * std::numeric_limits<double>::epsilon() * std::max(extent, 1e-300) * 3;
+  out = std::move(m);
+  return true;
+}
+
+ValidationReport HalfEdgeMesh::validate(double tol) const {
+  ValidationReport r;
+  auto err = [&](const std::string& s) {
+    if (r.errors.size() < 64) r.errors.push_back(s);
+  };
+  const std::size_t V = vertices.size(), H = edges.size(), F = faces.size();
+  for (Index v = 0; v < V; ++v) {
+    if (!vertices[v].position.allFinite()) err("vertex " + std::to_string(v) + " has a non-finite position");
+  }
+  if (H == 0 && F == 0) {
+    // Point or segment hull: vertices only.
+    if (V == 0) err("mesh is empty");
+    if (V > 2) err("mesh has " + std::to_string(V) + " vertices but no faces");
+    if (V == 2 && (vertices[0].position - vertices[1].position).norm() <= tol)
+      err("segment hull has coincident end points");
+    return r;
+  }
+  if (H % 2 != 0) err("odd number of half-edges");
+
+  // Combinatorial invariants, each index range-checked first.
+  bool indices_ok = true;
+  for (Index e = 0; e < H; ++e) {
+    const HalfEdge& h = edges[e];
+    if (h.origin >= V || h.twin >= H || h.next >= H || h.prev >= H || h.face >= F) {
+      err("half-edge " + std::to_string(e) + " has an index out of range");
+      indices_ok = false;
+    }
+  }
+  for (Index f = 0; f < F; ++f) {
+    if (faces[f].edge >= H) {
+      err("face " + std::to_string(f) + " has an edge index out of range");
+      indices_ok = false;
+    }
+  }
+  for (Index v = 0; v < V; ++v) {
+    if (vertices[v].edge >= H) {
+      err("vertex " + std::to_string(v) + " has no valid outgoing half-edge");
+      indices_ok = false;
+    }
+  }
+  if (!indices_ok) return r;
+
+  for (Index e = 0; e < H; ++e) {
+    const HalfEdge& h = edges[e];
+    const std::string name = "half-edge " + std::to_string(e);
+    if (h.twin == e) err(name + " is its own twin");
+    if (edges[h.twin].twin != e) err(name + ": twin(twin(e)) != e");
+    if (edges[h.prev].next != e) err(name + ": next(prev(e)) != e");
+    if (edges[h.next].prev != e) err(name + ": prev(next(e)) != e");
+    if (edges[h.next].face != h.face) err(name + ": face(next(e)) != face(e)");
+    if (edges[h.next].origin != edges[h.twin].origin) err(name + ": origin(next(e)) != destination(e)");
+    if (h.origin == edges[h.twin].origin) err(name + " starts and ends at the same vertex");
+  }
+  if (!r.ok()) return r;
+
+  for (Index v = 0; v < V; ++v) {
+    if (edges[vertices[v].edge].origin != v) err("vertex " + std::to_string(v) + ": origin(vertex.edge) != vertex");
+  }
+  // Face cycles: each face's cycle has >= 3 edges, and the cycles cover every
+  // half-edge exactly once.
+  std::vector<Index> seen_face(H, kInvalidIndex);
+  for (Index f = 0; f < F; ++f) {
+    if (edges[faces[f].edge].face != f) err("face " + std::to_string(f) + ": face(face.edge) != face");
+    Index e = faces[f].edge;
+    std::size_t n = 0;
+    do {
+      if (seen_face[e] != kInvalidIndex) {
+        err("half-edge " + std::to_string(e) + " is in the cycles of two faces");
+        break;
+      }
+      seen_face[e] = f;
+      e = edges[e].next;
+      ++n;
+    } while (e != faces[f].edge && n <= H);
+    if (n < 3) err("face " + std::to_string(f) + " has fewer than 3 edges");
+  }
+  for (Index e = 0; e < H; ++e) {
+    if (seen_face[e] == kInvalidIndex) err("half-edge " + std::to_string(e) + " is in no face's cycle");
+  }
+  // Vertex rings: the rotation cycle from vertex.edge reaches every outgoing
+  // half-edge of the vertex (a single fan: the surface is a manifold there).
+  std::vector<std::size_t> outgoing(V, 0);
+  for (Index e = 0; e < H; ++e) ++outgoing[edges[e].origin];
+  for (Index v = 0; v < V; ++v) {
+    if (outgoing[v] == 0) {
+      err("vertex " + std::to_string(v) + " has no edges");
+      continue;
+    }
+    Index e = vertices[v].edge;
+    std::size_t n = 0;
+    do {
+      e = rotate_ccw(e);
+      ++n;
+    } while (e != vertices[v].edge && n <= H && edges[e].origin == v);
+    if (edges[e].origin != v || n != outgoing[v])
+      err("vertex " + std::to_string(v) + " is not a manifold vertex (its ring has " + std::to_string(n) + " of " +
+          std::to_string(outgoing[v]) + " edges)");
+  }
+  if (!r.ok()) return r;
+
+  const long long euler = static_cast<long long>(V) - static_cast<long long>(H / 2) + static_cast<long long>(F);
+  if (euler != 2) err("Euler characteristic V - E + F = " + std::to_string(euler) + ", expected 2");
+
+  // Geometry: planar, convex faces; every vertex behind every plane.
+  for (Index f = 0; f < F; ++f) {
+    const Plane& pl = faces[f].plane;
+    const std::string name = "face " + std::to_string(f);
+    if (!pl.normal.allFinite() || std::abs(pl.normal.norm() - 1.0) > 1e3 * std::numeric_limits<double>::epsilon()) {
+      err(name + " has a plane normal that is not unit length");
+      continue;
+    }
+    // Winding agrees with the normal: Newell's vector points along it.
+    const Eigen::Vector3d c = face_centroid(f);
+    Eigen::Vector3d newell = Eigen::Vector3d::Zero();
+    double turning = 0;
+    for (Index e : face_edges(f)) {
+      const Eigen::Vector3d a = position(origin(e)), b = position(destination(e));
+      newell += (a - c).cross(b - c);
+      if (std::abs(pl.signed_distance(a)) > tol)
+        err(name + ": vertex " + std::to_string(origin(e)) + " is " + std::to_string(pl.signed_distance(a)) +
+            " off the face plane");
+      // Local convexity: the vertex after the next one lies inside the side
+      // plane of e (the plane through e containing the face normal).
+      const Eigen::Vector3d d = b - a;
+      const Eigen::Vector3d dn = position(destination(next(e))) - b;
+      const double dl = d.norm(), dnl = dn.norm();
+      if (dl > 0 && dnl > 0) {
+        const Eigen::Vector3d side = d.cross(pl.normal) / dl;  // outward in the face plane
+        if (side.dot(dn) > tol)
+          err(name + " is not convex at vertex " + std::to_string(destination(e)) + " (turns outward by " +
+              std::to_string(side.dot(dn)) + ")");
+        turning += std::atan2(d.cross(dn).dot(pl.normal), d.dot(dn));
+      }
+    }
+    if (newell.dot(pl.normal) <= 0) err(name + " is wound against its plane normal");
+    // A convex polygon turns exactly once; a star-shaped one more often.
+    if (std::abs(turning - 2 * M_PI) > 1e-6) err(name + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
+    for (Index v = 0; v < V; ++v) {
+      const double s = pl.signed_distance(vertices[v].position);
+      if (s > tol) {
+        err("vertex " + std::to_string(v) + " is " + std::to_string(s) + " in front of " + name);
+        break;
+      }
+    }
+  }
+  return r;
+}
+
+}  // namespace hedra::hull
