@@ -1,10 +1,9 @@
 // Half-edge mesh: plane fitting, construction from polygons, and the
 // validator. The validator never trusts the structure: every walk is bounded
 // by the number of half-edges and every index is range-checked before use.
-#include <hedra/hull/half_edge_mesh.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <hedra/hull/half_edge_mesh.hpp>
 #include <sstream>
 #include <unordered_map>
 

@@ -1,14 +1,785 @@
-// Temporary placeholder while the real implementation is written (same session).
+// Quickhull with face merging during construction. The algorithm and its
+// invariants are described in quickhull.hpp; this file adds the details of
+// the working structure:
+//   * half-edges store their origin as an index into the (recentred) input
+//     points, so output vertices are input points by construction;
+//   * faces carry a plane, centroid and area (Newell's method) and an
+//     intrusive singly-linked conflict list (conflict_next_ per point);
+//   * faces and edges are never freed during a build: removed faces are
+//     marked deleted and the structure is compacted once at the end.
+// Faces are processed in creation order (a cursor over the face array): every
+// face that can ever hold conflict points is created after the cursor, so one
+// pass over the array visits them all.
+#include <algorithm>
+#include <cmath>
 #include <hedra/hull/quickhull.hpp>
+#include <limits>
+
 namespace hedra::hull {
-const char* to_string(QuickhullStatus s) { (void)s; return "topology_failure"; }
-struct QuickhullBuilder::Impl {};
+
+const char* to_string(QuickhullStatus status) {
+  switch (status) {
+    case QuickhullStatus::ok:
+      return "ok";
+    case QuickhullStatus::empty_input:
+      return "empty_input";
+    case QuickhullStatus::non_finite_input:
+      return "non_finite_input";
+    case QuickhullStatus::iteration_limit:
+      return "iteration_limit";
+    case QuickhullStatus::topology_failure:
+      return "topology_failure";
+  }
+  return "unknown";
+}
+
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+constexpr double kDblEps = std::numeric_limits<double>::epsilon();
+
+enum class Mark : std::uint8_t { alive, visible, deleted };
+
+struct WorkEdge {
+  Index origin;  // input point index
+  Index twin;
+  Index next;
+  Index prev;
+  Index face;
+};
+
+struct WorkFace {
+  Vec3 normal;
+  double offset;
+  Vec3 centroid;
+  double area;
+  Index edge;
+  Index conflict;  // first point of the conflict list, or kInvalidIndex
+  Mark mark;
+
+  double distance(const Vec3& p) const { return normal.dot(p) - offset; }
+};
+
+// The polygon [a, b, c] is counter-clockwise seen from the side its normal
+// points to.
+Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cross(c - a); }
+
+}  // namespace
+
+struct QuickhullBuilder::Impl {
+  // Working state, kept between builds to avoid reallocation.
+  std::vector<Vec3> pts;             // recentred input
+  std::vector<Index> conflict_next;  // per point: next in its face's conflict list
+  std::vector<WorkEdge> edges;
+  std::vector<WorkFace> faces;
+  std::vector<Index> horizon;
+  std::vector<Index> visible;
+  std::vector<Index> new_faces;
+  std::vector<Index> orphans;
+  std::vector<Index> discarded;
+  std::vector<Index> point_stamp;  // per point, for horizon checks and compaction
+  Index stamp = 0;
+  struct Frame {
+    Index cur, stop;
+    bool started;
+  };
+  std::vector<Frame> stack;
+  double eps = 0;
+
+  // ---- face helpers -----------------------------------------------------
+  void update_face(Index f) {
+    WorkFace& face = faces[f];
+    Vec3 c = Vec3::Zero();
+    int n = 0;
+    Index e = face.edge;
+    do {
+      c += pts[edges[e].origin];
+      ++n;
+      e = edges[e].next;
+    } while (e != face.edge && n <= static_cast<int>(edges.size()));
+    c /= n;
+    Vec3 normal = Vec3::Zero();
+    e = face.edge;
+    do {
+      normal += (pts[edges[e].origin] - c).cross(pts[edges[edges[e].next].origin] - c);
+      e = edges[e].next;
+    } while (e != face.edge);
+    const double len = normal.norm();
+    face.area = 0.5 * len;
+    face.normal = len > 0 ? Vec3(normal / len) : Vec3::Zero();
+    face.centroid = c;
+    face.offset = face.normal.dot(c);
+  }
+
+  int degree(Index f) const {
+    int n = 0;
+    Index e = faces[f].edge;
+    do {
+      ++n;
+      e = edges[e].next;
+    } while (e != faces[f].edge && n <= static_cast<int>(edges.size()));
+    return n;
+  }
+
+  Index add_face() {
+    faces.push_back(WorkFace{Vec3::Zero(), 0.0, Vec3::Zero(), 0.0, kInvalidIndex, kInvalidIndex, Mark::alive});
+    return static_cast<Index>(faces.size() - 1);
+  }
+  Index add_edge(Index origin, Index face) {
+    edges.push_back(WorkEdge{origin, kInvalidIndex, kInvalidIndex, kInvalidIndex, face});
+    return static_cast<Index>(edges.size() - 1);
+  }
+  // A triangle a->b->c; returns its face; twins left for the caller.
+  Index add_triangle(Index a, Index b, Index c) {
+    const Index f = add_face();
+    const Index e0 = add_edge(a, f), e1 = add_edge(b, f), e2 = add_edge(c, f);
+    edges[e0].next = e1, edges[e1].next = e2, edges[e2].next = e0;
+    edges[e0].prev = e2, edges[e1].prev = e0, edges[e2].prev = e1;
+    faces[f].edge = e0;
+    return f;
+  }
+  void link_twins(Index a, Index b) {
+    edges[a].twin = b;
+    edges[b].twin = a;
+  }
+
+  void push_conflict(Index f, Index p) {
+    conflict_next[p] = faces[f].conflict;
+    faces[f].conflict = p;
+  }
+  // Moves the conflict points of face `from` to face `to` when they are in
+  // front of it, to the orphan list otherwise.
+  void move_conflicts(Index from, Index to) {
+    Index p = faces[from].conflict;
+    faces[from].conflict = kInvalidIndex;
+    while (p != kInvalidIndex) {
+      const Index next = conflict_next[p];
+      if (to != kInvalidIndex && faces[to].distance(pts[p]) > eps)
+        push_conflict(to, p);
+      else
+        orphans.push_back(p);
+      p = next;
+    }
+  }
+
+  // ---- merging ------------------------------------------------------------
+  // Joins hprev and h so that h follows hprev in their face. When both border
+  // the same other face O, the vertex between them has only two faces left
+  // and is removed: hprev is kept as the joined edge; if O was a triangle it
+  // disappears (returned, to be discarded), otherwise it loses one edge.
+  Index connect(Index hprev, Index h) {
+    const Index tp = edges[hprev].twin, th = edges[h].twin;
+    const Index o = edges[tp].face;
+    if (o != edges[th].face) {
+      edges[hprev].next = h;
+      edges[h].prev = hprev;
+      return kInvalidIndex;
+    }
+    const Index f = edges[hprev].face;
+    const Index nh = edges[h].next;
+    edges[hprev].next = nh;
+    edges[nh].prev = hprev;
+    if (faces[f].edge == h) faces[f].edge = hprev;
+    if (degree(o) == 3) {
+      // O = (w->v = th, v->u = tp, u->w = t3): the edge beyond t3 becomes the
+      // twin of the joined u->w.
+      const Index outer = edges[edges[tp].next].twin;
+      link_twins(hprev, outer);
+      faces[o].mark = Mark::deleted;
+      return o;
+    }
+    const Index ntp = edges[tp].next;
+    edges[th].next = ntp;
+    edges[ntp].prev = th;
+    if (faces[o].edge == tp) faces[o].edge = th;
+    link_twins(hprev, th);
+    update_face(o);
+    return kInvalidIndex;
+  }
+
+  // Face F = face(adj) absorbs the face across adj, together with every edge
+  // the two share in a run around adj.
+  void absorb(Index adj) {
+    const Index f = edges[adj].face;
+    const Index opp = edges[adj].twin;
+    const Index g = edges[opp].face;
+    faces[g].mark = Mark::deleted;
+    discarded.push_back(g);
+    Index adj_prev = edges[adj].prev, adj_next = edges[adj].next;
+    Index opp_prev = edges[opp].prev, opp_next = edges[opp].next;
+    for (std::size_t guard = 0; edges[edges[adj_prev].twin].face == g && guard < edges.size(); ++guard) {
+      adj_prev = edges[adj_prev].prev;
+      opp_next = edges[opp_next].next;
+    }
+    for (std::size_t guard = 0; edges[edges[adj_next].twin].face == g && guard < edges.size(); ++guard) {
+      opp_prev = edges[opp_prev].prev;
+      adj_next = edges[adj_next].next;
+    }
+    const Index stop = edges[opp_prev].next;
+    for (Index h = opp_next; h != stop; h = edges[h].next) edges[h].face = f;
+    faces[f].edge = adj_next;
+    const Index d1 = connect(opp_prev, adj_next);
+    if (d1 != kInvalidIndex) discarded.push_back(d1);
+    const Index d2 = connect(adj_prev, opp_next);
+    if (d2 != kInvalidIndex) discarded.push_back(d2);
+    update_face(f);
+  }
+
+  enum class MergeRule { nonconvex_wrt_larger, nonconvex };
+
+  // Distance of the centroid of the face across e from the plane of e's face.
+  double opposite_distance(Index e) const {
+    return faces[edges[e].face].distance(faces[edges[edges[e].twin].face].centroid);
+  }
+
+  // Merges face f with the first neighbour it is not clearly convex with;
+  // returns true if it merged (the caller repeats until false). With
+  // nonconvex_wrt_larger, only the larger face's plane decides, and a face
+  // that is concave only seen from the smaller one is flagged for the second
+  // pass through `nonconvex`.
+  bool merge_once(Index f, MergeRule rule, bool& nonconvex) {
+    const Index start = faces[f].edge;
+    Index e = start;
+    std::size_t guard = 0;
+    do {
+      const Index g = edges[edges[e].twin].face;
+      bool merge = false;
+      if (rule == MergeRule::nonconvex) {
+        merge = opposite_distance(e) > -eps || opposite_distance(edges[e].twin) > -eps;
+      } else if (faces[f].area > faces[g].area) {
+        if (opposite_distance(e) > -eps)
+          merge = true;
+        else if (opposite_distance(edges[e].twin) > -eps)
+          nonconvex = true;
+      } else {
+        if (opposite_distance(edges[e].twin) > -eps)
+          merge = true;
+        else if (opposite_distance(e) > -eps)
+          nonconvex = true;
+      }
+      if (merge) {
+        discarded.clear();
+        absorb(e);
+        for (Index d : discarded) move_conflicts(d, f);
+        return true;
+      }
+      e = edges[e].next;
+    } while (e != start && ++guard <= edges.size());
+    return false;
+  }
+
+  void merge_new_faces() {
+    const std::size_t cap = faces.size() + 1;
+    std::vector<Index>& nf = new_faces;
+    std::vector<std::uint8_t> flagged(nf.size(), 0);  // small: one byte per new face
+    for (std::size_t i = 0; i < nf.size(); ++i) {
+      if (faces[nf[i]].mark != Mark::alive) continue;
+      bool nonconvex = false;
+      for (std::size_t k = 0; k < cap; ++k) {
+        nonconvex = false;
+        if (!merge_once(nf[i], MergeRule::nonconvex_wrt_larger, nonconvex)) break;
+      }
+      flagged[i] = nonconvex;
+    }
+    for (std::size_t i = 0; i < nf.size(); ++i) {
+      if (!flagged[i] || faces[nf[i]].mark != Mark::alive) continue;
+      bool unused = false;
+      for (std::size_t k = 0; k < cap; ++k)
+        if (!merge_once(nf[i], MergeRule::nonconvex, unused)) break;
+    }
+  }
+
+  // ---- one iteration ------------------------------------------------------
+  // Collects the faces visible from point `eye` starting at face f0 (which
+  // sees it) and the horizon: half-edges of visible faces whose twins are in
+  // faces that do not see it, in counter-clockwise order around the region.
+  void find_horizon(Index eye, Index f0) {
+    horizon.clear();
+    visible.clear();
+    stack.clear();
+    faces[f0].mark = Mark::visible;
+    visible.push_back(f0);
+    stack.push_back({faces[f0].edge, faces[f0].edge, false});
+    const Vec3& p = pts[eye];
+    std::size_t guard = 0;
+    while (!stack.empty() && ++guard <= 4 * edges.size()) {
+      Frame& fr = stack.back();
+      if (fr.started && fr.cur == fr.stop) {
+        stack.pop_back();
+        continue;
+      }
+      const Index e = fr.cur;
+      fr.started = true;
+      fr.cur = edges[e].next;
+      const Index t = edges[e].twin;
+      const Index g = edges[t].face;
+      if (faces[g].mark == Mark::visible) continue;
+      if (faces[g].distance(p) > eps) {
+        faces[g].mark = Mark::visible;
+        visible.push_back(g);
+        stack.push_back({edges[t].next, t, true});
+      } else {
+        horizon.push_back(e);
+      }
+    }
+  }
+
+  // The horizon must be one simple closed loop.
+  bool horizon_is_simple() {
+    const std::size_t n = horizon.size();
+    if (n < 3) return false;
+    ++stamp;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Index e = horizon[i];
+      const Index dest = edges[edges[e].twin].origin;
+      if (edges[horizon[(i + 1) % n]].origin != dest) return false;
+      if (point_stamp[dest] == stamp) return false;
+      point_stamp[dest] = stamp;
+    }
+    return true;
+  }
+
+  void add_point(Index eye) {
+    // Remove the visible faces; their conflict points become orphans.
+    orphans.clear();
+    for (Index f : visible) {
+      faces[f].mark = Mark::deleted;
+      Index p = faces[f].conflict;
+      faces[f].conflict = kInvalidIndex;
+      while (p != kInvalidIndex) {
+        if (p != eye) orphans.push_back(p);
+        p = conflict_next[p];
+      }
+    }
+    // A cone of triangles from the horizon to the eye.
+    new_faces.clear();
+    Index first_side = kInvalidIndex, prev_side = kInvalidIndex;
+    for (Index h : horizon) {
+      const Index a = edges[h].origin, b = edges[edges[h].twin].origin;
+      const Index f = add_triangle(a, b, eye);
+      const Index e0 = faces[f].edge, e1 = edges[e0].next, e2 = edges[e1].next;
+      link_twins(e0, edges[h].twin);
+      if (prev_side != kInvalidIndex) link_twins(prev_side, e2);
+      if (first_side == kInvalidIndex) first_side = e2;
+      prev_side = e1;
+      update_face(f);
+      new_faces.push_back(f);
+    }
+    link_twins(prev_side, first_side);
+    merge_new_faces();
+    // Hand the orphans to the new faces (the farthest one in front, stopping
+    // early when one is clearly in front); the rest are inside.
+    for (Index p : orphans) {
+      Index best = kInvalidIndex;
+      double best_distance = eps;
+      for (Index f : new_faces) {
+        if (faces[f].mark != Mark::alive) continue;
+        const double d = faces[f].distance(pts[p]);
+        if (d > best_distance) {
+          best_distance = d;
+          best = f;
+          if (d > 1000 * eps) break;
+        }
+      }
+      if (best != kInvalidIndex) push_conflict(best, p);
+    }
+  }
+
+  // ---- degenerate hulls ---------------------------------------------------
+  void finish_point(Index i0, const Eigen::Vector3d* input, QuickhullResult& r) {
+    r.dimension = 0;
+    r.mesh.vertices.push_back({input[i0], kInvalidIndex});
+    r.input_index.push_back(i0);
+  }
+  void finish_segment(Index i0, Index i1, const Eigen::Vector3d* input, QuickhullResult& r) {
+    r.dimension = 1;
+    r.mesh.vertices.push_back({input[i0], kInvalidIndex});
+    r.mesh.vertices.push_back({input[i1], kInvalidIndex});
+    r.input_index = {i0, i1};
+  }
+  void finish_polygon(const Vec3& u, const Vec3& v, std::size_t n, const Eigen::Vector3d* input, QuickhullResult& r) {
+    std::vector<Eigen::Vector2d> xy(n);
+    for (std::size_t i = 0; i < n; ++i) xy[i] = {pts[i].dot(u), pts[i].dot(v)};
+    std::vector<Index> order, ring;
+    monotone_chain(xy, order, ring);
+    if (ring.size() < 3) return;  // caller treats this as a segment
+    r.dimension = 2;
+    const Index m = static_cast<Index>(ring.size());
+    for (Index i = 0; i < m; ++i) {
+      r.mesh.vertices.push_back({input[ring[i]], kInvalidIndex});
+      r.input_index.push_back(ring[i]);
+    }
+    // Face 0 counter-clockwise around u x v, face 1 the same ring reversed.
+    std::vector<std::vector<Index>> polys(2);
+    for (Index i = 0; i < m; ++i) {
+      polys[0].push_back(i);
+      polys[1].push_back(m - 1 - i);
+    }
+    std::vector<Eigen::Vector3d> positions;
+    positions.reserve(m);
+    for (const auto& vx : r.mesh.vertices) positions.push_back(vx.position);
+    HalfEdgeMesh::from_polygons(positions, polys, r.mesh);
+  }
+
+  // Andrew's monotone chain; ring = counter-clockwise hull, points within eps
+  // of a hull edge dropped.
+  void monotone_chain(const std::vector<Eigen::Vector2d>& xy, std::vector<Index>& order, std::vector<Index>& ring) {
+    const Index n = static_cast<Index>(xy.size());
+    order.resize(n);
+    for (Index i = 0; i < n; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](Index a, Index b) {
+      if (xy[a].x() != xy[b].x()) return xy[a].x() < xy[b].x();
+      if (xy[a].y() != xy[b].y()) return xy[a].y() < xy[b].y();
+      return a < b;
+    });
+    // Keep `a` between o and p only if it is more than eps left of o->p.
+    auto keeps = [&](Index o, Index a, Index p) {
+      const Eigen::Vector2d w = xy[p] - xy[o], s = xy[a] - xy[o];
+      const double cross = w.x() * s.y() - w.y() * s.x();  // > 0: a left of o->p
+      return cross > eps * w.norm();
+    };
+    ring.clear();
+    for (Index k = 0; k < n; ++k) {
+      while (ring.size() >= 2 && !keeps(ring[ring.size() - 2], ring.back(), order[k])) ring.pop_back();
+      if (ring.empty() || (xy[ring.back()] - xy[order[k]]).norm() > eps) ring.push_back(order[k]);
+    }
+    const std::size_t lower = ring.size();
+    for (Index k = n; k-- > 0;) {
+      while (ring.size() > lower && !keeps(ring[ring.size() - 2], ring.back(), order[k])) ring.pop_back();
+      if ((xy[ring.back()] - xy[order[k]]).norm() > eps) ring.push_back(order[k]);
+    }
+    // The upper chain ends at the first point again.
+    if (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();
+    if (ring.size() > 1 && (xy[ring.back()] - xy[ring.front()]).norm() <= eps) ring.pop_back();
+  }
+
+  QuickhullResult build(const Eigen::Vector3d* input, std::size_t n, const QuickhullOptions& options);
+  void compact(const Eigen::Vector3d* input, QuickhullResult& r);
+};
+
+QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std::size_t n,
+                                              const QuickhullOptions& options) {
+  QuickhullResult r;
+  if (n == 0 || input == nullptr) {
+    r.status = QuickhullStatus::empty_input;
+    r.error = "no points";
+    return r;
+  }
+  if (n >= static_cast<std::size_t>(kInvalidIndex) / 8) {
+    r.status = QuickhullStatus::empty_input;
+    r.error = "too many points (" + std::to_string(n) + ")";
+    return r;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!input[i].allFinite()) {
+      r.status = QuickhullStatus::non_finite_input;
+      r.error = "point " + std::to_string(i) + " has a non-finite coordinate";
+      return r;
+    }
+  }
+  // Recentre on the bounding-box centre; derive the tolerance from the extent.
+  Vec3 lo = input[0], hi = input[0];
+  for (std::size_t i = 1; i < n; ++i) {
+    lo = lo.cwiseMin(input[i]);
+    hi = hi.cwiseMax(input[i]);
+  }
+  const Vec3 centre = 0.5 * (lo + hi);
+  pts.resize(n);
+  Vec3 max_abs = Vec3::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    pts[i] = input[i] - centre;
+    max_abs = max_abs.cwiseMax(pts[i].cwiseAbs());
+  }
+  eps = options.tolerance > 0 ? options.tolerance : 3 * kDblEps * (max_abs.x() + max_abs.y() + max_abs.z());
+  r.tolerance = eps;
+  // Planes are stored in world coordinates: add what representing them there
+  // costs (large offsets), and the slack merging leaves (a merged face is
+  // planar within a few eps).
+  const double world = 3 * kDblEps * (centre.cwiseAbs().sum() + max_abs.sum());
+  const double mesh_tolerance = 4 * eps + 4 * world;
+
+  // Initial simplex.
+  Index extreme[6];
+  for (int axis = 0; axis < 3; ++axis) {
+    Index imin = 0, imax = 0;
+    for (Index i = 1; i < n; ++i) {
+      if (pts[i][axis] < pts[imin][axis]) imin = i;
+      if (pts[i][axis] > pts[imax][axis]) imax = i;
+    }
+    extreme[2 * axis] = imin;
+    extreme[2 * axis + 1] = imax;
+  }
+  Index i0 = extreme[0], i1 = extreme[1];
+  double best = -1;
+  for (int a = 0; a < 6; ++a)
+    for (int b = a + 1; b < 6; ++b) {
+      const double d = (pts[extreme[a]] - pts[extreme[b]]).squaredNorm();
+      if (d > best) best = d, i0 = extreme[a], i1 = extreme[b];
+    }
+  if (std::sqrt(best) <= eps) {
+    finish_point(0, input, r);
+    r.mesh.set_tolerance(mesh_tolerance);
+    return r;
+  }
+  // Segment ends: the extremes along the direction i0 -> i1.
+  const Vec3 dir = (pts[i1] - pts[i0]).normalized();
+  {
+    double dmin = pts[i0].dot(dir), dmax = pts[i1].dot(dir);
+    for (Index i = 0; i < n; ++i) {
+      const double d = pts[i].dot(dir);
+      if (d < dmin) dmin = d, i0 = i;
+      if (d > dmax) dmax = d, i1 = i;
+    }
+  }
+  const Vec3 dir2 = (pts[i1] - pts[i0]).normalized();
+  Index i2 = i0;
+  best = -1;
+  for (Index i = 0; i < n; ++i) {
+    const double d = (pts[i] - pts[i0]).cross(dir2).squaredNorm();
+    if (d > best) best = d, i2 = i;
+  }
+  if (std::sqrt(best) <= eps) {
+    finish_segment(i0, i1, input, r);
+    r.mesh.set_tolerance(mesh_tolerance);
+    return r;
+  }
+  Vec3 normal = triangle_normal(pts[i0], pts[i1], pts[i2]).normalized();
+  Index i3 = i0;
+  best = -1;
+  for (Index i = 0; i < n; ++i) {
+    const double d = std::abs(normal.dot(pts[i] - pts[i0]));
+    if (d > best) best = d, i3 = i;
+  }
+  if (best <= eps) {
+    const Vec3 u = dir2, v = normal.cross(u);
+    finish_polygon(u, v, n, input, r);
+    if (r.dimension != 2) finish_segment(i0, i1, input, r);
+    r.mesh.set_tolerance(mesh_tolerance);
+    return r;
+  }
+
+  // Tetrahedron, faces wound outward.
+  edges.clear();
+  faces.clear();
+  conflict_next.assign(n, kInvalidIndex);
+  point_stamp.assign(n, 0);
+  stamp = 0;
+  if (normal.dot(pts[i3] - pts[i0]) > 0) std::swap(i1, i2);  // base (i0,i1,i2) must face away from i3
+  {
+    const Index f0 = add_triangle(i0, i1, i2);
+    const Index f1 = add_triangle(i0, i3, i1);
+    const Index f2 = add_triangle(i1, i3, i2);
+    const Index f3 = add_triangle(i2, i3, i0);
+    auto e = [&](Index f, int k) {
+      Index h = faces[f].edge;
+      for (int j = 0; j < k; ++j) h = edges[h].next;
+      return h;
+    };
+    // f0: i0->i1, i1->i2, i2->i0; f1: i0->i3, i3->i1, i1->i0;
+    // f2: i1->i3, i3->i2, i2->i1; f3: i2->i3, i3->i0, i0->i2.
+    link_twins(e(f0, 0), e(f1, 2));
+    link_twins(e(f0, 1), e(f2, 2));
+    link_twins(e(f0, 2), e(f3, 2));
+    link_twins(e(f1, 0), e(f3, 1));
+    link_twins(e(f1, 1), e(f2, 0));
+    link_twins(e(f2, 1), e(f3, 0));
+    for (Index f = 0; f < 4; ++f) update_face(f);
+  }
+  for (Index i = 0; i < n; ++i) {
+    if (i == i0 || i == i1 || i == i2 || i == i3) continue;
+    Index best_face = kInvalidIndex;
+    double best_distance = eps;
+    for (Index f = 0; f < 4; ++f) {
+      const double d = faces[f].distance(pts[i]);
+      if (d > best_distance) best_distance = d, best_face = f;
+    }
+    if (best_face != kInvalidIndex) push_conflict(best_face, i);
+  }
+
+  const std::size_t cap = options.max_iterations > 0 ? options.max_iterations : n;
+  std::size_t skipped = 0;
+  for (Index cursor = 0; cursor < faces.size();) {
+    WorkFace& face = faces[cursor];
+    if (face.mark != Mark::alive || face.conflict == kInvalidIndex) {
+      ++cursor;
+      continue;
+    }
+    if (r.iterations >= cap) {
+      r.status = QuickhullStatus::iteration_limit;
+      r.error = "iteration cap of " + std::to_string(cap) + " reached";
+      break;
+    }
+    // The eye: the farthest conflict point of this face; unlink it.
+    Index eye = kInvalidIndex, eye_prev = kInvalidIndex, prev = kInvalidIndex;
+    double eye_distance = -std::numeric_limits<double>::infinity();
+    for (Index p = face.conflict; p != kInvalidIndex; prev = p, p = conflict_next[p]) {
+      const double d = face.distance(pts[p]);
+      if (d > eye_distance) eye_distance = d, eye = p, eye_prev = prev;
+    }
+    if (eye_prev == kInvalidIndex)
+      face.conflict = conflict_next[eye];
+    else
+      conflict_next[eye_prev] = conflict_next[eye];
+    ++r.iterations;
+    if (eye_distance <= eps) continue;  // the face moved in a merge; the point is on the hull now
+    find_horizon(eye, cursor);
+    if (!horizon_is_simple()) {
+      // Inconsistent visibility within tolerance: leave the point out rather
+      // than break the structure (reported through max_outside_distance).
+      for (Index f : visible) faces[f].mark = Mark::alive;
+      ++skipped;
+      continue;
+    }
+    add_point(eye);
+  }
+  (void)skipped;
+  compact(input, r);
+  r.mesh.set_tolerance(mesh_tolerance);
+  return r;
+}
+
+void QuickhullBuilder::Impl::compact(const Eigen::Vector3d* input, QuickhullResult& r) {
+  r.dimension = 3;
+  HalfEdgeMesh& m = r.mesh;
+  // New face and edge indices, in face order; vertices in order of first use.
+  ++stamp;
+  std::vector<Index> face_map(faces.size(), kInvalidIndex);
+  std::vector<Index> edge_map(edges.size(), kInvalidIndex);
+  Index nf = 0, ne = 0;
+  for (Index f = 0; f < faces.size(); ++f) {
+    if (faces[f].mark != Mark::alive) continue;
+    face_map[f] = nf++;
+    Index e = faces[f].edge;
+    std::size_t guard = 0;
+    do {
+      edge_map[e] = ne++;
+      const Index p = edges[e].origin;
+      if (point_stamp[p] != stamp) {
+        point_stamp[p] = stamp;
+        conflict_next[p] = static_cast<Index>(r.input_index.size());  // reuse as point -> vertex
+        r.input_index.push_back(p);
+      }
+      e = edges[e].next;
+    } while (e != faces[f].edge && ++guard <= edges.size());
+  }
+  m.vertices.resize(r.input_index.size());
+  for (Index v = 0; v < r.input_index.size(); ++v) m.vertices[v] = {input[r.input_index[v]], kInvalidIndex};
+  m.edges.resize(ne);
+  m.faces.resize(nf);
+  for (Index e = 0; e < edges.size(); ++e) {
+    if (edge_map[e] == kInvalidIndex) continue;
+    const WorkEdge& w = edges[e];
+    HalfEdge& h = m.edges[edge_map[e]];
+    h.origin = conflict_next[w.origin];
+    h.twin = edge_map[w.twin];
+    h.next = edge_map[w.next];
+    h.prev = edge_map[w.prev];
+    h.face = face_map[w.face];
+    if (h.twin == kInvalidIndex || h.next == kInvalidIndex || h.prev == kInvalidIndex || h.face == kInvalidIndex) {
+      r.status = QuickhullStatus::topology_failure;
+      r.error = "internal error: a live half-edge links to a removed element";
+    }
+  }
+  for (Index f = 0; f < faces.size(); ++f)
+    if (face_map[f] != kInvalidIndex) m.faces[face_map[f]].edge = edge_map[faces[f].edge];
+  m.rebuild_vertex_links();
+  m.update_planes();
+}
+
 QuickhullBuilder::QuickhullBuilder() : impl_(new Impl) {}
 QuickhullBuilder::~QuickhullBuilder() = default;
 QuickhullBuilder::QuickhullBuilder(QuickhullBuilder&&) noexcept = default;
 QuickhullBuilder& QuickhullBuilder::operator=(QuickhullBuilder&&) noexcept = default;
-QuickhullResult QuickhullBuilder::build(const Eigen::Vector3d*, std::size_t, const QuickhullOptions&) {
-  QuickhullResult r; r.status = QuickhullStatus::topology_failure; r.error = "not yet"; return r; }
-QuickhullResult build_hull(const std::vector<Eigen::Vector3d>& p, const QuickhullOptions& o) { return QuickhullBuilder().build(p, o); }
-double max_outside_distance(const HalfEdgeMesh&, const std::vector<Eigen::Vector3d>&) { return 0; }
+
+QuickhullResult QuickhullBuilder::build(const Eigen::Vector3d* points, std::size_t count,
+                                        const QuickhullOptions& options) {
+  return impl_->build(points, count, options);
 }
+
+QuickhullResult build_hull(const std::vector<Eigen::Vector3d>& points, const QuickhullOptions& options) {
+  return QuickhullBuilder().build(points, options);
+}
+
+// The largest signed distance of a point to a face plane. For solids the face
+// maximising it is found without scanning every face: the ray from the
+// centroid c through p leaves the hull through the face maximising
+//   g(f) = n_f . (p - c) / (d_f - n_f . c),
+// a linear function of the polar dual's vertex n_f / (d_f - n_f . c), so
+// hill-climbing over face adjacency finds it (the dual is convex). If p is
+// behind that face it is inside; otherwise the faces that see p form a
+// connected patch around it, searched for the largest distance.
+double max_outside_distance(const HalfEdgeMesh& mesh, const std::vector<Eigen::Vector3d>& points) {
+  double worst = 0;
+  const int dim = mesh.dimension();
+  if (dim <= 1) {
+    if (dim < 0) return 0;
+    const Vec3 a = mesh.position(0), b = dim == 1 ? mesh.position(1) : a;
+    const Vec3 ab = b - a;
+    const double len2 = ab.squaredNorm();
+    for (const auto& p : points) {
+      const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      worst = std::max(worst, (p - (a + t * ab)).norm());
+    }
+    return worst;
+  }
+  if (dim == 2) {
+    // Both faces' planes, and the side planes of the polygon's edges.
+    const Plane& pl = mesh.plane(0);
+    for (const auto& p : points) {
+      double d = std::abs(pl.signed_distance(p));
+      for (Index e : mesh.face_edges(0)) {
+        const Vec3 a = mesh.position(mesh.origin(e));
+        const Vec3 edge = mesh.edge_vector(e);
+        const Vec3 side = edge.cross(pl.normal).normalized();
+        d = std::max(d, side.dot(p - a));
+      }
+      worst = std::max(worst, d);
+    }
+    return worst;
+  }
+  Vec3 c = Vec3::Zero();
+  for (const auto& v : mesh.vertices) c += v.position;
+  c /= static_cast<double>(mesh.vertex_count());
+  const std::size_t nf = mesh.face_count();
+  std::vector<double> height(nf);  // distance from c to each plane (> 0)
+  double inner = std::numeric_limits<double>::infinity();
+  for (Index f = 0; f < nf; ++f) {
+    height[f] = -mesh.plane(f).signed_distance(c);
+    inner = std::min(inner, height[f]);
+  }
+  std::vector<Index> stamp(nf, kInvalidIndex), stack;
+  Index face = 0;
+  for (Index i = 0; i < points.size(); ++i) {
+    const Vec3 rel = points[i] - c;
+    if (rel.norm() < 0.5 * inner) continue;  // clearly inside
+    auto g = [&](Index f) { return mesh.plane(f).normal.dot(rel) / height[f]; };
+    double gf = g(face);
+    for (std::size_t step = 0; step <= nf; ++step) {
+      Index best = face;
+      double best_g = gf;
+      for (Index n : mesh.face_neighbors(face)) {
+        const double gn = g(n);
+        if (gn > best_g) best_g = gn, best = n;
+      }
+      if (best == face) break;
+      face = best, gf = best_g;
+    }
+    const Vec3& p = points[i];
+    if (mesh.plane(face).signed_distance(p) <= 0) continue;
+    stack.assign(1, face);
+    stamp[face] = i;
+    for (std::size_t guard = 0; !stack.empty() && guard <= nf; ++guard) {
+      const Index f = stack.back();
+      stack.pop_back();
+      worst = std::max(worst, mesh.plane(f).signed_distance(p));
+      for (Index n : mesh.face_neighbors(f)) {
+        if (stamp[n] == i || mesh.plane(n).signed_distance(p) <= 0) continue;
+        stamp[n] = i;
+        stack.push_back(n);
+      }
+    }
+  }
+  return worst;
+}
+
+}  // namespace hedra::hull

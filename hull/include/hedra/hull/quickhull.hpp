@@ -34,9 +34,8 @@
 // so the loop runs at most n times; the cap is still checked and reported.
 #pragma once
 
-#include <hedra/hull/half_edge_mesh.hpp>
-
 #include <cstddef>
+#include <hedra/hull/half_edge_mesh.hpp>
 #include <memory>
 #include <string>
 #include <vector>
@@ -45,10 +44,10 @@ namespace hedra::hull {
 
 enum class QuickhullStatus {
   ok,
-  empty_input,        // no points at all
-  non_finite_input,   // a NaN or infinite coordinate; error names the point
-  iteration_limit,    // the iteration cap was hit (the mesh is the hull so far)
-  topology_failure,   // an internal consistency check failed (never expected)
+  empty_input,       // no points at all
+  non_finite_input,  // a NaN or infinite coordinate; error names the point
+  iteration_limit,   // the iteration cap was hit (the mesh is the hull so far)
+  topology_failure,  // an internal consistency check failed (never expected)
 };
 
 const char* to_string(QuickhullStatus status);
@@ -64,8 +63,8 @@ struct QuickhullOptions {
 
 struct QuickhullResult {
   QuickhullStatus status = QuickhullStatus::ok;
-  std::string error;              // human-readable reason when status != ok
-  HalfEdgeMesh mesh;              // the hull; vertex positions are input points
+  std::string error;               // human-readable reason when status != ok
+  HalfEdgeMesh mesh;               // the hull; vertex positions are input points
   std::vector<Index> input_index;  // mesh vertex -> index of the input point
   double tolerance = 0.0;          // the eps used (also mesh.tolerance())
   int dimension = -1;              // 0 point, 1 segment, 2 polygon, 3 solid
@@ -96,8 +95,12 @@ class QuickhullBuilder {
 // One-shot convenience.
 QuickhullResult build_hull(const std::vector<Eigen::Vector3d>& points, const QuickhullOptions& options = {});
 
-// Largest distance of any point in front of any face of `mesh` (0 when all
-// are inside or on it). For a point or segment hull, the distance to it.
+// Largest distance of any point in front of any face plane of `mesh` (0 when
+// all are inside or on it): for a solid, max over points and faces of the
+// signed plane distance (equal to the Euclidean distance for points outside
+// near a face, a lower bound near edges and corners); for a flat hull, the
+// largest of |distance to the plane| and the distances outside its edges; for
+// a point or segment hull, the Euclidean distance to it.
 double max_outside_distance(const HalfEdgeMesh& mesh, const std::vector<Eigen::Vector3d>& points);
 
 }  // namespace hedra::hull
