@@ -163,7 +163,7 @@ bool HalfEdgeMesh::from_polygons(const std::vector<Eigen::Vector3d>& positions,
   return true;
 }
 
-ValidationReport HalfEdgeMesh::validate(double tol) const {
+ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
   ValidationReport r;
   auto err = [&](const std::string& s) {
     if (r.errors.size() < 64) r.errors.push_back(s);
@@ -300,12 +300,47 @@ ValidationReport HalfEdgeMesh::validate(double tol) const {
     if (newell.dot(pl.normal) <= 0) err(name + " is wound against its plane normal");
     // A convex polygon turns exactly once; a star-shaped one more often.
     if (std::abs(turning - 2 * M_PI) > 1e-6) err(name + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
-    for (Index v = 0; v < V; ++v) {
-      const double s = pl.signed_distance(vertices[v].position);
-      if (s > tol) {
-        err("vertex " + std::to_string(v) + " is " + std::to_string(s) + " in front of " + name);
-        break;
+    // Local convexity: the vertices next to each edge in the neighbouring
+    // face are behind this face's plane.
+    for (Index e : face_edges(f)) {
+      const Index t = twin(e);
+      for (Index w : {destination(next(t)), origin(prev(t))}) {
+        const double s = pl.signed_distance(position(w));
+        if (s > tol)
+          err("edge " + std::to_string(origin(e)) + "-" + std::to_string(destination(e)) + " is concave: vertex " +
+              std::to_string(w) + " is " + std::to_string(s) + " in front of " + name);
       }
+    }
+  }
+  if (!exhaustive || !r.ok()) return r;
+  if (static_cast<double>(V) * static_cast<double>(F) <= 5e7) {
+    for (Index f = 0; f < F; ++f) {
+      const Plane& pl = faces[f].plane;
+      for (Index v = 0; v < V; ++v) {
+        const double s = pl.signed_distance(vertices[v].position);
+        if (s > tol) {
+          err("vertex " + std::to_string(v) + " is " + std::to_string(s) + " in front of face " + std::to_string(f));
+          break;
+        }
+      }
+    }
+  } else {
+    Index v = 0;
+    for (Index f = 0; f < F; ++f) {
+      const Plane& pl = faces[f].plane;
+      double best = pl.normal.dot(position(v));
+      for (std::size_t step = 0; step <= V; ++step) {
+        Index next_v = v;
+        for (Index w : vertex_neighbors(v)) {
+          const double value = pl.normal.dot(position(w));
+          if (value > best) best = value, next_v = w;
+        }
+        if (next_v == v) break;
+        v = next_v;
+      }
+      if (best - pl.offset > tol)
+        err("vertex " + std::to_string(v) + " is " + std::to_string(best - pl.offset) + " in front of face " +
+            std::to_string(f));
     }
   }
   return r;

@@ -454,6 +454,8 @@ struct QuickhullBuilder::Impl {
   }
 
   QuickhullResult build(const Eigen::Vector3d* input, std::size_t n, const QuickhullOptions& options);
+  void build_once(const Eigen::Vector3d* input, std::size_t n, const QuickhullOptions& options, const Vec3& centre,
+                  const Vec3& max_abs, QuickhullResult& r);
   void compact(const Eigen::Vector3d* input, QuickhullResult& r);
 };
 
@@ -490,7 +492,27 @@ QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std:
     pts[i] = input[i] - centre;
     max_abs = max_abs.cwiseMax(pts[i].cwiseAbs());
   }
-  eps = options.tolerance > 0 ? options.tolerance : 3 * kDblEps * (max_abs.x() + max_abs.y() + max_abs.z());
+  // A tolerance the input cannot satisfy (points so close to coplanar that
+  // faces come out warped beyond it, as with clusters of near-duplicates) is
+  // retried eightfold larger, up to a millionth of the extent, instead of
+  // returning a broken hull; result.tolerance says which one held.
+  const double extent = max_abs.x() + max_abs.y() + max_abs.z();
+  double tolerance = options.tolerance > 0 ? options.tolerance : 3 * kDblEps * extent;
+  for (int attempt = 0;; ++attempt) {
+    eps = tolerance;
+    QuickhullResult attempt_result;
+    build_once(input, n, options, centre, max_abs, attempt_result);
+    if (attempt_result.status != QuickhullStatus::topology_failure || tolerance * 8 > 1e-6 * extent || attempt >= 16) {
+      attempt_result.iterations += r.iterations;
+      return attempt_result;
+    }
+    r.iterations += attempt_result.iterations;
+    tolerance *= 8;
+  }
+}
+
+void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_t n, const QuickhullOptions& options,
+                                        const Vec3& centre, const Vec3& max_abs, QuickhullResult& r) {
   r.tolerance = eps;
   // Planes are stored in world coordinates: add what representing them there
   // costs (large offsets), and the slack merging leaves (a merged face is
@@ -519,7 +541,7 @@ QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std:
   if (std::sqrt(best) <= eps) {
     finish_point(0, input, r);
     r.mesh.set_tolerance(mesh_tolerance);
-    return r;
+    return;
   }
   // Segment ends: the extremes along the direction i0 -> i1.
   const Vec3 dir = (pts[i1] - pts[i0]).normalized();
@@ -541,7 +563,7 @@ QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std:
   if (std::sqrt(best) <= eps) {
     finish_segment(i0, i1, input, r);
     r.mesh.set_tolerance(mesh_tolerance);
-    return r;
+    return;
   }
   Vec3 normal = triangle_normal(pts[i0], pts[i1], pts[i2]).normalized();
   Index i3 = i0;
@@ -555,7 +577,7 @@ QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std:
     finish_polygon(u, v, n, input, r);
     if (r.dimension != 2) finish_segment(i0, i1, input, r);
     r.mesh.set_tolerance(mesh_tolerance);
-    return r;
+    return;
   }
 
   // Tetrahedron, faces wound outward.
@@ -635,7 +657,14 @@ QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std:
   (void)skipped;
   compact(input, r);
   r.mesh.set_tolerance(mesh_tolerance);
-  return r;
+  if (r.status == QuickhullStatus::ok) {
+    // O(E) structural and local-convexity check of the result.
+    const ValidationReport report = r.mesh.validate(mesh_tolerance, /*exhaustive=*/false);
+    if (!report.ok()) {
+      r.status = QuickhullStatus::topology_failure;
+      r.error = "hull failed validation at tolerance " + std::to_string(eps) + ": " + report.errors.front();
+    }
+  }
 }
 
 void QuickhullBuilder::Impl::compact(const Eigen::Vector3d* input, QuickhullResult& r) {

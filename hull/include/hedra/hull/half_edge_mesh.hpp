@@ -223,9 +223,14 @@ class HalfEdgeMesh {
 
   // Checks every invariant listed at the top of this file; geometric checks
   // use `tolerance` (default: tolerance()). Never loops forever on a corrupt
-  // structure.
+  // structure. Convexity is checked locally at every edge (the vertices next
+  // to the edge in the neighbouring face lie behind the face's plane), which
+  // for a closed, consistently oriented surface implies global convexity;
+  // `exhaustive` adds the global check that every vertex is behind every face
+  // plane (brute force when V * F <= 5e7, otherwise by hill-climbing to each
+  // face normal's extreme vertex, exact once local convexity holds).
   ValidationReport validate() const { return validate(tolerance_); }
-  ValidationReport validate(double tolerance) const;
+  ValidationReport validate(double tolerance, bool exhaustive = true) const;
 
   // Sets each vertex's outgoing half-edge from the half-edge array.
   void rebuild_vertex_links();
