@@ -1,0 +1,554 @@
+// Editing operations on a HalfEdgeMesh (see mesh_edit.hpp for the contracts).
+//
+// split_edge / split_face rewire a constant number of links and append the
+// new elements, so every existing index stays valid.
+//
+// cut_by_plane never edits the input in place: it decides everything first
+// (vertex classes, crossing points, the kept polygons, the border loop) into
+// scratch arrays, builds the result into a fresh mesh, and swaps it in only
+// when the border was one simple loop (or, for a flat mesh, pairs of opposite
+// half-edges). Invariants of the result and why they hold:
+//   * twin pairs: a kept polygon's edge that is a piece of an input half-edge
+//     h is twinned with the piece of twin(h); the faces of both h and twin(h)
+//     keep that piece whenever both faces are kept (a new crossing vertex is
+//     shared through the undirected edge it lies on);
+//   * next/prev/face: each kept polygon becomes one cycle; the cap's cycle is
+//     the reversed border loop;
+//   * manifold vertices: the border loop visits each vertex at most once
+//     (checked), so the kept faces round each border vertex form one fan that
+//     the cap closes;
+//   * geometry: crossing vertices lie on their input edge (t strictly inside
+//     (0, 1)), so kept faces stay planar and convex; all kept vertices are
+//     within tolerance behind the cutting plane, the cap's plane.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <hedra/hull/assert.hpp>
+#include <hedra/hull/mesh_edit.hpp>
+#include <limits>
+#include <utility>
+
+namespace hedra::hull {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// The same scale as HalfEdgeMesh::from_polygons: a few dozen units of
+// rounding of the largest coordinate.
+double extent_tolerance(double extent) { return 48.0 * kEps * std::max(extent, std::numeric_limits<double>::min()); }
+
+double mesh_tolerance(const HalfEdgeMesh& mesh) {
+  const double t = mesh.tolerance();
+  if (t > 0 && std::isfinite(t)) return t;
+  double extent = 0;
+  for (const auto& v : mesh.vertices) extent = std::max(extent, v.position.cwiseAbs().maxCoeff());
+  return extent_tolerance(extent);
+}
+
+// Normalises a plane; false when it has no direction or is not finite.
+bool normalized_plane(const Plane& in, Plane& out) {
+  if (!in.normal.allFinite() || !std::isfinite(in.offset)) return false;
+  const double len = in.normal.norm();
+  if (!(len > 0) || !std::isfinite(len)) return false;
+  out.normal = in.normal / len;
+  out.offset = in.offset / len;
+  return out.normal.allFinite() && std::isfinite(out.offset);
+}
+
+// The point where segment b -> f crosses the plane, computed from the end
+// strictly behind (d_b < 0 < d_f) so that t = d_b / (d_b - d_f) lies in
+// (0, 1) and the division cannot be by zero.
+Eigen::Vector3d crossing_point(const Eigen::Vector3d& b, double d_b, const Eigen::Vector3d& f, double d_f) {
+  const double t = d_b / (d_b - d_f);
+  return b + t * (f - b);
+}
+
+enum class Side : unsigned char { behind, on, front };
+
+Side classify(double d, double tol) { return d > tol ? Side::front : (d < -tol ? Side::behind : Side::on); }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// split_edge
+
+Index split_edge(HalfEdgeMesh& mesh, Index e, const Eigen::Vector3d& point) {
+  if (e >= mesh.edges.size() || !point.allFinite()) return kInvalidIndex;
+  const Index t = mesh.edges[e].twin;
+  if (t >= mesh.edges.size()) return kInvalidIndex;
+  const Index m = static_cast<Index>(mesh.vertices.size());
+  const Index e2 = static_cast<Index>(mesh.edges.size());  // m -> b, in face(e)
+  const Index t2 = e2 + 1;                                 // m -> a, in face(t)
+  const Index e_next = mesh.edges[e].next;
+  const Index t_next = mesh.edges[t].next;
+
+  HalfEdge he2;
+  he2.origin = m;
+  he2.twin = t;
+  he2.next = e_next;
+  he2.prev = e;
+  he2.face = mesh.edges[e].face;
+  HalfEdge ht2;
+  ht2.origin = m;
+  ht2.twin = e;
+  ht2.next = t_next;
+  ht2.prev = t;
+  ht2.face = mesh.edges[t].face;
+  mesh.edges.push_back(he2);
+  mesh.edges.push_back(ht2);
+  mesh.vertices.push_back({point, e2});
+
+  // e: a -> m, twin m -> a; t: b -> m, twin m -> b. Origins of e and t, and so
+  // every vertex's outgoing link, are unchanged.
+  mesh.edges[e].next = e2;
+  mesh.edges[e].twin = t2;
+  mesh.edges[t].next = t2;
+  mesh.edges[t].twin = e2;
+  mesh.edges[e_next].prev = e2;
+  mesh.edges[t_next].prev = t2;
+  return m;
+}
+
+// ---------------------------------------------------------------------------
+// split_face
+
+Index split_face(HalfEdgeMesh& mesh, Index f, Index v_a, Index v_b) {
+  if (f >= mesh.faces.size() || v_a == v_b) return kInvalidIndex;
+  const std::size_t cap = mesh.edges.size();
+  const Index start = mesh.faces[f].edge;
+  if (start >= cap) return kInvalidIndex;
+  // Find the half-edges of f leaving v_a and v_b (the walk is capped by the
+  // number of half-edges, so a corrupt cycle cannot loop forever).
+  Index ea = kInvalidIndex, eb = kInvalidIndex;
+  std::size_t degree = 0;
+  Index e = start;
+  do {
+    if (mesh.edges[e].origin == v_a) ea = e;
+    if (mesh.edges[e].origin == v_b) eb = e;
+    e = mesh.edges[e].next;
+    ++degree;
+  } while (e != start && degree <= cap);
+  if (e != start || ea == kInvalidIndex || eb == kInvalidIndex) return kInvalidIndex;
+  if (mesh.edges[ea].next == eb || mesh.edges[eb].next == ea) return kInvalidIndex;  // adjacent: not a diagonal
+
+  // Both parts must have area: some vertex of each, strictly between v_a and
+  // v_b, more than tolerance off the diagonal's line. Without it a part would
+  // be a sliver face with no well-defined plane or winding.
+  const double tol = mesh_tolerance(mesh);
+  const Eigen::Vector3d pa = mesh.position(v_a);
+  const Eigen::Vector3d axis = mesh.position(v_b) - pa;
+  const double axis_len = axis.norm();
+  if (!(axis_len > tol)) return kInvalidIndex;
+  const Eigen::Vector3d dir = axis / axis_len;
+  auto part_has_area = [&](Index from, Index to) {
+    std::size_t n = 0;
+    for (Index h = mesh.edges[from].next; h != to && n <= cap; h = mesh.edges[h].next, ++n) {
+      const Eigen::Vector3d r = mesh.position(mesh.edges[h].origin) - pa;
+      if ((r - r.dot(dir) * dir).norm() > tol) return true;
+    }
+    return false;
+  };
+  if (!part_has_area(ea, eb) || !part_has_area(eb, ea)) return kInvalidIndex;
+
+  const Index pb = mesh.edges[eb].prev;       // ends at v_b
+  const Index pa_edge = mesh.edges[ea].prev;  // ends at v_a
+  const Index g = static_cast<Index>(mesh.faces.size());
+  const Index d1 = static_cast<Index>(mesh.edges.size());  // v_a -> v_b, in g
+  const Index d2 = d1 + 1;                                 // v_b -> v_a, in f
+
+  HalfEdge h1;
+  h1.origin = v_a;
+  h1.twin = d2;
+  h1.prev = pa_edge;
+  h1.next = eb;
+  h1.face = g;
+  HalfEdge h2;
+  h2.origin = v_b;
+  h2.twin = d1;
+  h2.prev = pb;
+  h2.next = ea;
+  h2.face = f;
+  mesh.edges.push_back(h1);
+  mesh.edges.push_back(h2);
+  mesh.edges[pa_edge].next = d1;
+  mesh.edges[eb].prev = d1;
+  mesh.edges[pb].next = d2;
+  mesh.edges[ea].prev = d2;
+
+  Face face_g;
+  face_g.edge = eb;
+  face_g.plane = mesh.faces[f].plane;
+  mesh.faces.push_back(face_g);
+  mesh.faces[f].edge = ea;
+  // Hand the part v_b ... v_a over to g (bounded by the old face degree).
+  std::size_t n = 0;
+  for (Index h = eb; h != d1 && n <= degree; h = mesh.edges[h].next, ++n) mesh.edges[h].face = g;
+  mesh.edges[d1].face = g;
+  return g;
+}
+
+// ---------------------------------------------------------------------------
+// cut_by_plane
+
+const char* to_string(CutStatus status) {
+  switch (status) {
+    case CutStatus::unchanged:
+      return "unchanged";
+    case CutStatus::cut:
+      return "cut";
+    case CutStatus::emptied:
+      return "emptied";
+    case CutStatus::invalid_plane:
+      return "invalid_plane";
+    case CutStatus::invalid_mesh:
+      return "invalid_mesh";
+    case CutStatus::topology_failure:
+      return "topology_failure";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// Point and segment hulls: vertices only.
+CutResult cut_vertices_only(HalfEdgeMesh& mesh, const Plane& plane, double tol) {
+  CutResult result;
+  const std::size_t n = mesh.vertices.size();
+  double d[2] = {0, 0};
+  Side s[2] = {Side::on, Side::on};
+  bool any_front = false, any_behind = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    d[i] = plane.signed_distance(mesh.vertices[i].position);
+    s[i] = classify(d[i], tol);
+    any_front |= s[i] == Side::front;
+    any_behind |= s[i] == Side::behind;
+  }
+  if (!any_front) return result;
+  if (!any_behind) {
+    result.status = CutStatus::emptied;
+    result.removed_vertices = n;
+    mesh.vertices.clear();
+    return result;
+  }
+  // A segment from strictly behind to strictly in front: move the front end
+  // onto the plane (it becomes a new vertex; the old one is removed).
+  const std::size_t fi = s[0] == Side::front ? 0 : 1;
+  const std::size_t bi = 1 - fi;
+  mesh.vertices[fi].position = crossing_point(mesh.vertices[bi].position, d[bi], mesh.vertices[fi].position, d[fi]);
+  result.status = CutStatus::cut;
+  result.removed_vertices = 1;
+  result.added_vertices = 1;
+  return result;
+}
+
+}  // namespace
+
+CutResult cut_by_plane(HalfEdgeMesh& mesh, const Plane& plane_in) {
+  CutResult result;
+  Plane plane;
+  if (!normalized_plane(plane_in, plane)) {
+    result.status = CutStatus::invalid_plane;
+    return result;
+  }
+  const std::size_t V = mesh.vertices.size(), H = mesh.edges.size(), F = mesh.faces.size();
+  result.status = CutStatus::invalid_mesh;
+  if (V == 0 || H % 2 != 0 || (H == 0) != (F == 0)) return result;
+  if (V >= kInvalidIndex || H >= kInvalidIndex / 2) return result;
+  for (const auto& v : mesh.vertices)
+    if (!v.position.allFinite()) return result;
+  const double tol = mesh_tolerance(mesh);
+  result.status = CutStatus::unchanged;
+
+  if (H == 0) {
+    if (V > 2) {
+      result.status = CutStatus::invalid_mesh;
+      return result;
+    }
+    return cut_vertices_only(mesh, plane, tol);
+  }
+  for (const auto& h : mesh.edges) {
+    if (h.origin >= V || h.twin >= H || h.next >= H || h.prev >= H || h.face >= F) {
+      result.status = CutStatus::invalid_mesh;
+      return result;
+    }
+  }
+
+  // 1. Classify the vertices.
+  std::vector<double> dist(V);
+  std::vector<Side> side(V);
+  bool any_front = false, any_behind = false;
+  for (Index v = 0; v < V; ++v) {
+    dist[v] = plane.signed_distance(mesh.vertices[v].position);
+    side[v] = classify(dist[v], tol);
+    any_front |= side[v] == Side::front;
+    any_behind |= side[v] == Side::behind;
+  }
+  if (!any_front) return result;  // unchanged
+  if (!any_behind) {
+    // Nothing with thickness is behind the plane (at most a face, edge or
+    // vertex lying in it).
+    result.status = CutStatus::emptied;
+    result.removed_vertices = V;
+    mesh.vertices.clear();
+    mesh.edges.clear();
+    mesh.faces.clear();
+    return result;
+  }
+
+  // 2. One new vertex per undirected edge from strictly behind to strictly in
+  //    front. Vertex references in the kept polygons: an input vertex v is
+  //    encoded as v, the crossing on edge h as V + crossing index.
+  std::vector<Index> crossing_of(H, kInvalidIndex);
+  std::vector<Eigen::Vector3d> crossings;
+  for (Index h = 0; h < H; ++h) {
+    const Index a = mesh.edges[h].origin, b = mesh.edges[mesh.edges[h].twin].origin;
+    if (h > mesh.edges[h].twin) continue;  // once per undirected edge
+    const bool cross =
+        (side[a] == Side::behind && side[b] == Side::front) || (side[a] == Side::front && side[b] == Side::behind);
+    if (!cross) continue;
+    const Index bv = side[a] == Side::behind ? a : b, fv = side[a] == Side::behind ? b : a;
+    const Index id = static_cast<Index>(V + crossings.size());
+    crossings.push_back(crossing_point(mesh.position(bv), dist[bv], mesh.position(fv), dist[fv]));
+    crossing_of[h] = id;
+    crossing_of[mesh.edges[h].twin] = id;
+  }
+
+  // 3. The kept polygons. Each corner records the vertex reference and the
+  //    input half-edge its outgoing edge is a piece of (kInvalidIndex for a
+  //    chord across a removed front run).
+  struct Corner {
+    Index vertex;
+    Index source;
+  };
+  std::vector<Corner> corners;
+  corners.reserve(H + crossings.size() * 2);
+  std::vector<Index> poly_begin;  // corner range of each kept face
+  std::vector<Index> kept_faces;
+  for (Index f = 0; f < F; ++f) {
+    const Index first = static_cast<Index>(corners.size());
+    bool has_behind = false;
+    const Index start = mesh.faces[f].edge;
+    if (start >= H) {
+      result.status = CutStatus::invalid_mesh;
+      return result;
+    }
+    Index h = start;
+    std::size_t steps = 0;
+    do {
+      const Index u = mesh.edges[h].origin, w = mesh.edges[mesh.edges[h].twin].origin;
+      const Side su = side[u], sw = side[w];
+      has_behind |= su == Side::behind;
+      if (su != Side::front) {
+        if (sw != Side::front) {
+          corners.push_back({u, h});
+        } else if (su == Side::behind) {
+          corners.push_back({u, h});                           // piece u -> crossing
+          corners.push_back({crossing_of[h], kInvalidIndex});  // chord starts here
+        } else {
+          corners.push_back({u, kInvalidIndex});  // on-plane vertex: chord starts here
+        }
+      } else if (sw == Side::behind) {
+        corners.push_back({crossing_of[h], h});  // piece crossing -> w
+      }
+      h = mesh.edges[h].next;
+      ++steps;
+    } while (h != start && steps <= H);
+    if (h != start) {
+      result.status = CutStatus::invalid_mesh;
+      return result;
+    }
+    if (has_behind) {
+      HEDRA_ASSERT(corners.size() - first >= 3);
+      poly_begin.push_back(first);
+      kept_faces.push_back(f);
+    } else {
+      corners.resize(first);
+    }
+  }
+  poly_begin.push_back(static_cast<Index>(corners.size()));
+
+  // 4. Compact vertex numbering: kept input vertices in their order, then the
+  //    crossings. Only vertices on a kept face survive.
+  const std::size_t refs = V + crossings.size();
+  std::vector<Index> new_index(refs, kInvalidIndex);
+  for (const Corner& c : corners) new_index[c.vertex] = 0;
+  Index next_vertex = 0;
+  for (std::size_t r = 0; r < refs; ++r)
+    if (new_index[r] == 0) new_index[r] = next_vertex++;
+
+  // 5. Half-edges of the kept faces; pieces of input half-edges are twinned
+  //    through out_of_source, the rest form the border.
+  HalfEdgeMesh out;
+  out.set_tolerance(mesh.tolerance());
+  out.vertices.resize(next_vertex);
+  for (std::size_t r = 0; r < refs; ++r) {
+    if (new_index[r] == kInvalidIndex) continue;
+    out.vertices[new_index[r]].position = r < V ? mesh.vertices[r].position : crossings[r - V];
+  }
+  out.edges.resize(corners.size());
+  out.faces.resize(kept_faces.size());
+  std::vector<Index> out_of_source(H, kInvalidIndex);
+  for (std::size_t k = 0; k < kept_faces.size(); ++k) {
+    const Index b = poly_begin[k], n = poly_begin[k + 1] - b;
+    for (Index i = 0; i < n; ++i) {
+      HalfEdge& he = out.edges[b + i];
+      he.origin = new_index[corners[b + i].vertex];
+      he.next = b + (i + 1) % n;
+      he.prev = b + (i + n - 1) % n;
+      he.face = static_cast<Index>(k);
+      if (corners[b + i].source != kInvalidIndex) out_of_source[corners[b + i].source] = b + i;
+    }
+    out.faces[k].edge = b;
+    out.faces[k].plane = mesh.faces[kept_faces[k]].plane;
+  }
+  std::vector<Index> border;
+  for (Index o = 0; o < corners.size(); ++o) {
+    const Index src = corners[o].source;
+    const Index t = src == kInvalidIndex ? kInvalidIndex : out_of_source[mesh.edges[src].twin];
+    out.edges[o].twin = t;
+    if (t == kInvalidIndex) border.push_back(o);
+  }
+  result.status = CutStatus::topology_failure;
+  if (border.empty()) return result;
+  auto dest = [&](Index o) { return out.edges[out.edges[o].next].origin; };
+
+  // 6. Close the opening. A flat mesh's border half-edges come in opposite
+  //    pairs (the chord across the front side and the one across the back):
+  //    they become twins. Otherwise the border must be one simple loop.
+  std::vector<std::pair<std::uint64_t, Index>> keys;
+  keys.reserve(border.size());
+  auto key = [](Index a, Index b) { return (std::uint64_t(a) << 32) | b; };
+  for (Index o : border) keys.push_back({key(out.edges[o].origin, dest(o)), o});
+  std::sort(keys.begin(), keys.end());
+  std::size_t paired = 0;
+  for (Index o : border) {
+    const std::uint64_t want = key(dest(o), out.edges[o].origin);
+    auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(want, Index(0)));
+    if (it != keys.end() && it->first == want) {
+      out.edges[o].twin = it->second;
+      ++paired;
+    }
+  }
+  Index cap = kInvalidIndex;
+  if (paired == border.size()) {
+    for (std::size_t i = 1; i < keys.size(); ++i)
+      if (keys[i].first == keys[i - 1].first) return result;  // an edge used twice one way
+  } else {
+    if (paired != 0) return result;
+    // Border loop: the cap half-edge opposite border o = (a -> b) runs b -> a
+    // and is followed by the cap half-edge leaving a, the one opposite the
+    // border half-edge that ends at a.
+    std::vector<Index> border_into(out.vertices.size(), kInvalidIndex);
+    for (Index o : border) {
+      Index& slot = border_into[dest(o)];
+      if (slot != kInvalidIndex) return result;  // the loop would pass a vertex twice
+      slot = o;
+    }
+    const Index n = static_cast<Index>(border.size());
+    if (n < 3) return result;
+    cap = static_cast<Index>(out.faces.size());
+    const Index cap_first = static_cast<Index>(out.edges.size());
+    std::vector<Index> cap_of_border(out.edges.size(), kInvalidIndex);
+    for (Index i = 0; i < n; ++i) cap_of_border[border[i]] = cap_first + i;
+    out.edges.resize(cap_first + n);
+    for (Index i = 0; i < n; ++i) {
+      const Index o = border[i];
+      const Index into_origin = border_into[out.edges[o].origin];
+      if (into_origin == kInvalidIndex) return result;  // the border is not closed
+      HalfEdge& c = out.edges[cap_first + i];
+      c.origin = dest(o);
+      c.twin = o;
+      c.face = cap;
+      c.next = cap_of_border[into_origin];
+      out.edges[o].twin = cap_first + i;
+    }
+    for (Index i = 0; i < n; ++i) out.edges[out.edges[cap_first + i].next].prev = cap_first + i;
+    // One loop, not several: walking from the first cap half-edge must visit
+    // all of them.
+    Index c = cap_first;
+    Index steps = 0;
+    do {
+      c = out.edges[c].next;
+      ++steps;
+    } while (c != cap_first && steps <= n);
+    if (steps != n) return result;
+    Face cap_face;
+    cap_face.edge = cap_first;
+    cap_face.plane = plane;
+    out.faces.push_back(cap_face);
+  }
+  out.rebuild_vertex_links();
+
+  result.status = CutStatus::cut;
+  result.cap_face = cap;
+  result.added_vertices = crossings.size();
+  result.removed_vertices = V - (out.vertices.size() - crossings.size());
+  result.face_source = kept_faces;
+  if (cap != kInvalidIndex) result.face_source.push_back(kInvalidIndex);
+  mesh = std::move(out);
+  return result;
+}
+
+// ---------------------------------------------------------------------------
+// clip_polygon
+
+ClipResult clip_polygon(const Eigen::Vector3d* points, std::size_t count, const Plane& plane_in, Eigen::Vector3d* out,
+                        std::size_t capacity, double tolerance) {
+  ClipResult result;
+  Plane plane;
+  if (!normalized_plane(plane_in, plane) || (count > 0 && points == nullptr)) {
+    result.status = ClipStatus::invalid_input;
+    return result;
+  }
+  double extent = std::abs(plane.offset);
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!points[i].allFinite()) {
+      result.status = ClipStatus::invalid_input;
+      return result;
+    }
+    extent = std::max(extent, points[i].cwiseAbs().maxCoeff());
+  }
+  const double tol = tolerance > 0 && std::isfinite(tolerance) ? tolerance : extent_tolerance(extent);
+  auto emit = [&](const Eigen::Vector3d& p) {
+    if (result.count == capacity) {
+      result.status = ClipStatus::capacity_exceeded;
+      return false;
+    }
+    out[result.count++] = p;
+    return true;
+  };
+  if (count == 0) return result;
+  if (count <= 2) {
+    // A point, or a segment (whose "closing edge" is the segment itself, so
+    // the polygon walk below would emit its crossing twice).
+    const double d0 = plane.signed_distance(points[0]);
+    const Side s0 = classify(d0, tol);
+    if (count == 1) {
+      if (s0 != Side::front) emit(points[0]);
+      return result;
+    }
+    const double d1 = plane.signed_distance(points[1]);
+    const Side s1 = classify(d1, tol);
+    if (s0 != Side::front && !emit(points[0])) return result;
+    if (s0 == Side::behind && s1 == Side::front && !emit(crossing_point(points[0], d0, points[1], d1))) return result;
+    if (s0 == Side::front && s1 == Side::behind && !emit(crossing_point(points[1], d1, points[0], d0))) return result;
+    if (s1 != Side::front) emit(points[1]);
+    return result;
+  }
+  double d_cur = plane.signed_distance(points[0]);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t j = i + 1 == count ? 0 : i + 1;
+    const double d_next = plane.signed_distance(points[j]);
+    const Side s_cur = classify(d_cur, tol), s_next = classify(d_next, tol);
+    if (s_cur != Side::front && !emit(points[i])) return result;
+    if (s_cur == Side::behind && s_next == Side::front) {
+      if (!emit(crossing_point(points[i], d_cur, points[j], d_next))) return result;
+    } else if (s_cur == Side::front && s_next == Side::behind) {
+      if (!emit(crossing_point(points[j], d_next, points[i], d_cur))) return result;
+    }
+    d_cur = d_next;
+  }
+  return result;
+}
+
+}  // namespace hedra::hull
