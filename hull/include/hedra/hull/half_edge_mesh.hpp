@@ -226,9 +226,9 @@ class HalfEdgeMesh {
   // structure. Convexity is checked locally at every edge (the vertices next
   // to the edge in the neighbouring face lie behind the face's plane), which
   // for a closed, consistently oriented surface implies global convexity;
-  // `exhaustive` adds the global check that every vertex is behind every face
-  // plane (brute force when V * F <= 5e7, otherwise by hill-climbing to each
-  // face normal's extreme vertex, exact once local convexity holds).
+  // `exhaustive` adds that each face winds exactly once (no star polygons)
+  // and the global check that every vertex is behind every face plane (brute force when V * F <= 5e7, otherwise by
+  // hill-climbing to each face normal's extreme vertex, exact once local convexity holds).
   ValidationReport validate() const { return validate(tolerance_); }
   ValidationReport validate(double tolerance, bool exhaustive = true) const;
 
