@@ -776,12 +776,9 @@ double max_outside_distance(const HalfEdgeMesh& mesh, const std::vector<Eigen::V
     height[f] = -mesh.plane(f).signed_distance(c);
     inner = std::min(inner, height[f]);
   }
-  std::vector<Index> stamp(nf, kInvalidIndex), stack;
-  Index face = 0;
-  for (Index i = 0; i < points.size(); ++i) {
-    const Vec3 rel = points[i] - c;
-    if (rel.norm() < 0.5 * inner) continue;  // clearly inside
-    auto g = [&](Index f) { return mesh.plane(f).normal.dot(rel) / height[f]; };
+  // Hill-climbing for the exit face of the ray c + t * dir.
+  auto climb = [&](Index face, const Vec3& dir) {
+    auto g = [&](Index f) { return mesh.plane(f).normal.dot(dir) / height[f]; };
     double gf = g(face);
     for (std::size_t step = 0; step <= nf; ++step) {
       Index best = face;
@@ -793,6 +790,42 @@ double max_outside_distance(const HalfEdgeMesh& mesh, const std::vector<Eigen::V
       if (best == face) break;
       face = best, gf = best_g;
     }
+    return face;
+  };
+  // Start faces from a cube map of directions (k x k cells on each of the six
+  // sides), so that each point climbs only a few steps.
+  const int k = static_cast<int>(std::clamp(std::sqrt(static_cast<double>(nf)), 1.0, 64.0));
+  auto cell_of = [&](const Vec3& d) {
+    int axis = 0;
+    d.cwiseAbs().maxCoeff(&axis);
+    const double m = std::abs(d[axis]);
+    if (!(m > 0)) return 0;
+    const int side = 2 * axis + (d[axis] > 0 ? 1 : 0);
+    const double u = d[(axis + 1) % 3] / m, v = d[(axis + 2) % 3] / m;  // in [-1, 1]
+    const int iu = std::clamp(static_cast<int>((u + 1) * 0.5 * k), 0, k - 1);
+    const int iv = std::clamp(static_cast<int>((v + 1) * 0.5 * k), 0, k - 1);
+    return (side * k + iu) * k + iv;
+  };
+  std::vector<Index> cell_face(static_cast<std::size_t>(6 * k * k));
+  {
+    Index face = 0;
+    for (int side = 0; side < 6; ++side)
+      for (int iu = 0; iu < k; ++iu)
+        for (int iv = 0; iv < k; ++iv) {
+          Vec3 d;
+          const int axis = side / 2;
+          d[axis] = side % 2 ? 1.0 : -1.0;
+          d[(axis + 1) % 3] = (iu + 0.5) / k * 2 - 1;
+          d[(axis + 2) % 3] = (iv + 0.5) / k * 2 - 1;
+          face = climb(face, d);
+          cell_face[static_cast<std::size_t>((side * k + iu) * k + iv)] = face;
+        }
+  }
+  std::vector<Index> stamp(nf, kInvalidIndex), stack;
+  for (Index i = 0; i < points.size(); ++i) {
+    const Vec3 rel = points[i] - c;
+    if (rel.norm() < inner) continue;  // inside the inscribed sphere, so behind every plane
+    const Index face = climb(cell_face[static_cast<std::size_t>(cell_of(rel))], rel);
     const Vec3& p = points[i];
     if (mesh.plane(face).signed_distance(p) <= 0) continue;
     stack.assign(1, face);
