@@ -1,0 +1,30 @@
+// Timing helpers shared by the subcommands that report `time_ns`: the median
+// of repeated measurements, taken with std::chrono::steady_clock (monotonic,
+// so a clock adjustment never yields a negative time).
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+namespace hedra::tool {
+
+using Clock = std::chrono::steady_clock;
+
+inline double elapsed_ns(Clock::time_point start, Clock::time_point stop) {
+  return std::chrono::duration<double, std::nano>(stop - start).count();
+}
+
+// Median of `samples` (the mean of the two middle ones for an even count);
+// 0 for none. Takes a copy because it reorders.
+inline double median(std::vector<double> samples) {
+  if (samples.empty()) return 0.0;
+  const std::size_t middle = samples.size() / 2;
+  std::nth_element(samples.begin(), samples.begin() + middle, samples.end());
+  const double upper = samples[middle];
+  if (samples.size() % 2 == 1) return upper;
+  const double lower = *std::max_element(samples.begin(), samples.begin() + middle);
+  return lower + (upper - lower) / 2;
+}
+
+}  // namespace hedra::tool
