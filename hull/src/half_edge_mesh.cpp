@@ -207,14 +207,15 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
 
   for (Index e = 0; e < H; ++e) {
     const HalfEdge& h = edges[e];
-    const std::string name = "half-edge " + std::to_string(e);
-    if (h.twin == e) err(name + " is its own twin");
-    if (edges[h.twin].twin != e) err(name + ": twin(twin(e)) != e");
-    if (edges[h.prev].next != e) err(name + ": next(prev(e)) != e");
-    if (edges[h.next].prev != e) err(name + ": prev(next(e)) != e");
-    if (edges[h.next].face != h.face) err(name + ": face(next(e)) != face(e)");
-    if (edges[h.next].origin != edges[h.twin].origin) err(name + ": origin(next(e)) != destination(e)");
-    if (h.origin == edges[h.twin].origin) err(name + " starts and ends at the same vertex");
+    // Names are built only when an error is reported (this loop is hot).
+    const auto name = [e] { return "half-edge " + std::to_string(e); };
+    if (h.twin == e) err(name() + " is its own twin");
+    if (edges[h.twin].twin != e) err(name() + ": twin(twin(e)) != e");
+    if (edges[h.prev].next != e) err(name() + ": next(prev(e)) != e");
+    if (edges[h.next].prev != e) err(name() + ": prev(next(e)) != e");
+    if (edges[h.next].face != h.face) err(name() + ": face(next(e)) != face(e)");
+    if (edges[h.next].origin != edges[h.twin].origin) err(name() + ": origin(next(e)) != destination(e)");
+    if (h.origin == edges[h.twin].origin) err(name() + " starts and ends at the same vertex");
   }
   if (!r.ok()) return r;
 
@@ -269,9 +270,9 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
   // Geometry: planar, convex faces; every vertex behind every plane.
   for (Index f = 0; f < F; ++f) {
     const Plane& pl = faces[f].plane;
-    const std::string name = "face " + std::to_string(f);
+    const auto name = [f] { return "face " + std::to_string(f); };
     if (!pl.normal.allFinite() || std::abs(pl.normal.norm() - 1.0) > 1e3 * std::numeric_limits<double>::epsilon()) {
-      err(name + " has a plane normal that is not unit length");
+      err(name() + " has a plane normal that is not unit length");
       continue;
     }
     // Winding agrees with the normal: Newell's vector points along it.
@@ -282,7 +283,7 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
       const Eigen::Vector3d a = position(origin(e)), b = position(destination(e));
       newell += (a - c).cross(b - c);
       if (std::abs(pl.signed_distance(a)) > tol)
-        err(name + ": vertex " + std::to_string(origin(e)) + " is " + std::to_string(pl.signed_distance(a)) +
+        err(name() + ": vertex " + std::to_string(origin(e)) + " is " + std::to_string(pl.signed_distance(a)) +
             " off the face plane");
       // Local convexity: the vertex after the next one lies inside the side
       // plane of e (the plane through e containing the face normal).
@@ -292,15 +293,15 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
       if (dl > 0 && dnl > 0) {
         const Eigen::Vector3d side = d.cross(pl.normal) / dl;  // outward in the face plane
         if (side.dot(dn) > tol)
-          err(name + " is not convex at vertex " + std::to_string(destination(e)) + " (turns outward by " +
+          err(name() + " is not convex at vertex " + std::to_string(destination(e)) + " (turns outward by " +
               std::to_string(side.dot(dn)) + ")");
         if (exhaustive) turning += std::atan2(d.cross(dn).dot(pl.normal), d.dot(dn));
       }
     }
-    if (newell.dot(pl.normal) <= 0) err(name + " is wound against its plane normal");
+    if (newell.dot(pl.normal) <= 0) err(name() + " is wound against its plane normal");
     // A convex polygon turns exactly once; a star-shaped one more often.
     if (exhaustive && std::abs(turning - 2 * M_PI) > 1e-6)
-      err(name + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
+      err(name() + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
     // Local convexity: the vertices next to each edge in the neighbouring
     // face are behind this face's plane.
     for (Index e : face_edges(f)) {
@@ -309,7 +310,7 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
         const double s = pl.signed_distance(position(w));
         if (s > tol)
           err("edge " + std::to_string(origin(e)) + "-" + std::to_string(destination(e)) + " is concave: vertex " +
-              std::to_string(w) + " is " + std::to_string(s) + " in front of " + name);
+              std::to_string(w) + " is " + std::to_string(s) + " in front of " + name());
       }
     }
   }

@@ -12,6 +12,7 @@
 // pass over the array visits them all.
 #include <algorithm>
 #include <cmath>
+#include <hedra/hull/assert.hpp>
 #include <hedra/hull/quickhull.hpp>
 #include <limits>
 
@@ -453,6 +454,25 @@ struct QuickhullBuilder::Impl {
     if (ring.size() > 1 && (xy[ring.back()] - xy[ring.front()]).norm() <= eps) ring.pop_back();
   }
 
+  // O(E) check of what merging can get wrong: every face planar within tol,
+  // every edge convex within tol (the vertices next to it in the neighbouring
+  // face are behind the face's plane).
+  bool faces_are_sound(double tol) const {
+    for (Index f = 0; f < faces.size(); ++f) {
+      const WorkFace& face = faces[f];
+      if (face.mark != Mark::alive) continue;
+      Index e = face.edge;
+      std::size_t guard = 0;
+      do {
+        if (std::abs(face.distance(pts[edges[e].origin])) > tol) return false;
+        const Index t = edges[e].twin;
+        if (face.distance(pts[edges[edges[edges[t].next].next].origin]) > tol) return false;
+        e = edges[e].next;
+      } while (e != face.edge && ++guard <= edges.size());
+    }
+    return true;
+  }
+
   QuickhullResult build(const Eigen::Vector3d* input, std::size_t n, const QuickhullOptions& options);
   void build_once(const Eigen::Vector3d* input, std::size_t n, const QuickhullOptions& options, const Vec3& centre,
                   const Vec3& max_abs, QuickhullResult& r);
@@ -655,16 +675,14 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
     add_point(eye);
   }
   (void)skipped;
+  if (r.status == QuickhullStatus::ok && !faces_are_sound(4 * eps)) {
+    r.status = QuickhullStatus::topology_failure;
+    r.error = "faces warped beyond the tolerance " + std::to_string(eps);
+  }
   compact(input, r);
   r.mesh.set_tolerance(mesh_tolerance);
-  if (r.status == QuickhullStatus::ok) {
-    // O(E) structural and local-convexity check of the result.
-    const ValidationReport report = r.mesh.validate(mesh_tolerance, /*exhaustive=*/false);
-    if (!report.ok()) {
-      r.status = QuickhullStatus::topology_failure;
-      r.error = "hull failed validation at tolerance " + std::to_string(eps) + ": " + report.errors.front();
-    }
-  }
+  // The structure is correct by construction; debug builds prove it.
+  HEDRA_ASSERT(r.status != QuickhullStatus::ok || r.mesh.validate(mesh_tolerance, false).ok());
 }
 
 void QuickhullBuilder::Impl::compact(const Eigen::Vector3d* input, QuickhullResult& r) {
