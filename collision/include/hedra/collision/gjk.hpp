@@ -1,0 +1,403 @@
+// GJK (Gilbert, Johnson, Keerthi 1988) over support mappings, with the
+// signed-volumes sub-algorithm of Montanari, Petrinic and Barbieri,
+// "Improving the GJK algorithm for faster and more reliable distance
+// queries between convex objects", ACM TOG 36(3), 2017.
+//
+// Both shapes are support types (`support(d) const`) in one common frame
+// (the query layer uses A's core frame). The algorithm searches the point v
+// of the Minkowski difference A - B closest to the origin:
+//   w = s_A(-v) - s_B(v)            the difference's support point against v;
+//   v . w / |v| <= distance <= |v|  (v . w / |v| is a certified lower bound:
+//                                    every x in A - B has v . x >= v . w);
+//   gap = |v|^2 - v . w >= 0        the Frank-Wolfe duality gap, so
+//                                    |v| - distance <= gap / |v|.
+// Each iteration adds w to the simplex (at most 4 points w_i = a_i - b_i) and
+// replaces the simplex by the smallest sub-simplex whose hull contains the
+// point closest to the origin, with barycentric weights lambda_i; then
+// v = sum lambda_i w_i and the witness points are sum lambda_i a_i and
+// sum lambda_i b_i.
+//
+// Signed volumes. The sub-simplex is chosen from signs only: the origin's
+// barycentric coordinates are ratios of signed volumes (areas, lengths) of
+// sub-simplices, computed on the coordinate projection that maximises the
+// simplex's own volume, and a sub-simplex is accepted only when every
+// coordinate has the sign of the total. Unlike Johnson's distance
+// sub-algorithm or Voronoi-region tests, no determinant is compared against
+// a threshold, so near-degenerate simplices cannot flip between regions: a
+// flat tetrahedron or a collinear triangle simply fails the sign test and its
+// faces (edges) are examined instead.
+//
+// Termination (whichever comes first; every exit keeps finite outputs):
+//   * |v| <= zero threshold (16 eps x scale) or the simplex is a tetrahedron
+//     containing the origin: the cores overlap or touch (intersecting);
+//   * gap <= max(relative_tolerance |v|^2, absolute_tolerance scale |v|):
+//     the distance error is below max(rel |v|, abs scale) (converged);
+//   * w equals a simplex vertex (a duplicate support point): no better point
+//     exists up to rounding (converged);
+//   * |v|^2 fails to decrease strictly (rounding has taken over, or a NaN
+//     appeared in the sub-algorithm): the previous v, still the best, is kept;
+//   * a non-finite support point: status degenerate;
+//   * the iteration cap: status max_iterations, never read as "separated".
+// gjk_intersect additionally stops as soon as the answer is known: separated
+// once v . w > margin |v| (a separating axis), intersecting once
+// |v| <= margin.
+//
+// Warm start: the caller passes the initial search axis (the previous v of
+// the pair, kept in a GjkCache, or the centre difference).
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <hedra/hull/half_edge_mesh.hpp>
+#include <limits>
+
+namespace hedra::collision {
+
+enum class GjkStatus {
+  ok,              // converged: outputs valid
+  max_iterations,  // the cap was hit: outputs are the best so far, not a verdict
+  degenerate,      // a support point was not finite (NaN/inf input)
+};
+
+inline const char* to_string(GjkStatus status) {
+  switch (status) {
+    case GjkStatus::ok:
+      return "ok";
+    case GjkStatus::max_iterations:
+      return "max_iterations";
+    case GjkStatus::degenerate:
+      return "degenerate";
+  }
+  return "unknown";
+}
+
+struct GjkSettings {
+  int max_iterations = 128;
+  // The loop stops once the certified distance error is below
+  // max(relative_tolerance * distance, absolute_tolerance * scale), scale
+  // being the shapes' size (bounding radius).
+  double relative_tolerance = 1e-10;
+  double absolute_tolerance = 1e-10;
+};
+
+// Per-pair state the caller may keep between queries (frames: A's core frame,
+// so it stays valid while the pair moves rigidly).
+struct GjkCache {
+  bool valid = false;
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();  // last v = point_a - point_b
+  hull::Index hint_a = 0;                          // last support vertices of
+  hull::Index hint_b = 0;                          // polyhedra (climb starts)
+};
+
+struct GjkSimplex {
+  int size = 0;
+  std::array<Eigen::Vector3d, 4> w;  // a - b
+  std::array<Eigen::Vector3d, 4> a;
+  std::array<Eigen::Vector3d, 4> b;
+  std::array<double, 4> lambda{};  // barycentric weights of v, summing to 1
+};
+
+struct GjkResult {
+  GjkStatus status = GjkStatus::ok;
+  bool intersecting = false;                          // cores overlap or touch (gjk_intersect: distance <= margin)
+  double distance = 0.0;                              // |v|; 0 when intersecting
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  // closest points, common frame
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();  // point_a - point_b: last search axis
+  double lower_bound = 0.0;                     // certified: true distance >= lower_bound
+  double error_bound = 0.0;                     // distance - lower_bound (duality gap / |v|)
+  int iterations = 0;
+  GjkSimplex simplex;
+};
+
+namespace gjk_detail {
+
+// Strictly the same sign (0 matches nothing): the acceptance test of the
+// signed-volumes method.
+inline bool same_sign(double x, double y) { return (x > 0.0 && y > 0.0) || (x < 0.0 && y < 0.0); }
+
+struct Sub {
+  int size = 0;
+  std::array<int, 4> index{};
+  std::array<double, 4> lambda{};
+};
+
+inline Eigen::Vector3d combine(const std::array<Eigen::Vector3d, 4>& w, const Sub& s) {
+  Eigen::Vector3d x = s.lambda[0] * w[s.index[0]];
+  for (int i = 1; i < s.size; ++i) x += s.lambda[i] * w[s.index[i]];
+  return x;
+}
+
+inline void vertex(int i, Sub& out) {
+  out.size = 1;
+  out.index[0] = i;
+  out.lambda[0] = 1.0;
+}
+
+// Segment w[i0] w[i1].
+inline void s1d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, Sub& out) {
+  const Eigen::Vector3d& p0 = w[i0];
+  const Eigen::Vector3d& p1 = w[i1];
+  const Eigen::Vector3d t = p1 - p0;
+  const double tt = t.squaredNorm();
+  int axis = 0;
+  t.cwiseAbs().maxCoeff(&axis);
+  const double mu = t[axis];
+  if (!(tt > 0.0) || mu == 0.0) {
+    // A point-like segment: the nearer end (NaN compares false: p1).
+    vertex(p0.squaredNorm() < p1.squaredNorm() ? i0 : i1, out);
+    return;
+  }
+  // Projection of the origin on the line, then 1D signed lengths along the
+  // axis where the segment is longest.
+  const Eigen::Vector3d p = p0 - (p0.dot(t) / tt) * t;
+  const double c0 = p1[axis] - p[axis];  // lambda_0 * mu
+  const double c1 = p[axis] - p0[axis];  // lambda_1 * mu
+  if (same_sign(mu, c0) && same_sign(mu, c1)) {
+    out.size = 2;
+    out.index[0] = i0;
+    out.index[1] = i1;
+    out.lambda[0] = c0 / mu;
+    out.lambda[1] = c1 / mu;
+  } else if (!same_sign(mu, c1)) {
+    vertex(i0, out);  // the projection lies before p0
+  } else {
+    vertex(i1, out);  // beyond p1
+  }
+}
+
+// Triangle w[i0] w[i1] w[i2].
+inline void s2d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, int i2, Sub& out) {
+  const Eigen::Vector3d& p0 = w[i0];
+  const Eigen::Vector3d& p1 = w[i1];
+  const Eigen::Vector3d& p2 = w[i2];
+  const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+  const double nn = n.squaredNorm();
+  // Which edges to examine when the projection is not strictly inside: the
+  // edge opposite vertex m where the m-th coordinate has the wrong sign, or
+  // all three for a collinear (or non-finite) triangle.
+  std::array<bool, 3> outside = {true, true, true};
+  if (nn > 0.0 && std::isfinite(nn)) {
+    const Eigen::Vector3d p = (p0.dot(n) / nn) * n;  // origin projected on the plane
+    int k = 0;
+    n.cwiseAbs().maxCoeff(&k);
+    const int i = (k + 1) % 3;
+    const int j = (k + 2) % 3;
+    // Twice the signed area of the projection on the (i, j) plane, the one
+    // where the triangle is largest; area(p0, p1, p2) = n_k.
+    auto area = [i, j](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+      return (b[i] - a[i]) * (c[j] - a[j]) - (b[j] - a[j]) * (c[i] - a[i]);
+    };
+    const double mu = area(p0, p1, p2);
+    const std::array<double, 3> c = {area(p, p1, p2), area(p0, p, p2), area(p0, p1, p)};
+    for (int m = 0; m < 3; ++m) outside[m] = !same_sign(mu, c[m]);
+    if (!outside[0] && !outside[1] && !outside[2]) {
+      out.size = 3;
+      out.index = {i0, i1, i2, 0};
+      for (int m = 0; m < 3; ++m) out.lambda[m] = c[m] / mu;
+      return;
+    }
+  }
+  const std::array<int, 3> ids = {i0, i1, i2};
+  double best = std::numeric_limits<double>::infinity();
+  bool found = false;
+  for (int m = 0; m < 3; ++m) {
+    if (!outside[m]) continue;
+    Sub candidate;
+    s1d(w, ids[(m + 1) % 3], ids[(m + 2) % 3], candidate);
+    const double d2 = combine(w, candidate).squaredNorm();
+    if (!found || d2 < best) {
+      best = d2;
+      out = candidate;
+      found = true;
+    }
+  }
+}
+
+// Tetrahedron w[0..3]. Returns true when the origin is strictly inside.
+inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
+  auto det = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    return a.dot(b.cross(c));
+  };
+  // c[m] = signed volume of the tetrahedron with w[m] replaced by the origin;
+  // their sum is the tetrahedron's signed volume det[w1-w0, w2-w0, w3-w0].
+  const std::array<double, 4> c = {det(w[1], w[2], w[3]), -det(w[0], w[2], w[3]), det(w[0], w[1], w[3]),
+                                   -det(w[0], w[1], w[2])};
+  const double mu = c[0] + c[1] + c[2] + c[3];
+  std::array<bool, 4> outside;
+  for (int m = 0; m < 4; ++m) outside[m] = !same_sign(mu, c[m]);
+  if (!outside[0] && !outside[1] && !outside[2] && !outside[3]) {
+    out.size = 4;
+    out.index = {0, 1, 2, 3};
+    for (int m = 0; m < 4; ++m) out.lambda[m] = c[m] / mu;
+    return true;
+  }
+  // Faces opposite a vertex with a wrong-signed coordinate (all four for a
+  // flat tetrahedron), keeping the closest answer.
+  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+  double best = std::numeric_limits<double>::infinity();
+  bool found = false;
+  for (int m = 0; m < 4; ++m) {
+    if (!outside[m]) continue;
+    Sub candidate;
+    s2d(w, kFace[m][0], kFace[m][1], kFace[m][2], candidate);
+    const double d2 = combine(w, candidate).squaredNorm();
+    if (!found || d2 < best) {
+      best = d2;
+      out = candidate;
+      found = true;
+    }
+  }
+  return false;
+}
+
+// Reduces `s` (1..4 points) to the sub-simplex nearest the origin; returns
+// true when the origin is inside a tetrahedron.
+inline bool signed_volumes(GjkSimplex& s) {
+  Sub sub;
+  bool inside = false;
+  switch (s.size) {
+    case 1:
+      vertex(0, sub);
+      break;
+    case 2:
+      s1d(s.w, 0, 1, sub);
+      break;
+    case 3:
+      s2d(s.w, 0, 1, 2, sub);
+      break;
+    default:
+      inside = s3d(s.w, sub);
+      break;
+  }
+  GjkSimplex reduced;
+  reduced.size = sub.size;
+  for (int i = 0; i < sub.size; ++i) {
+    reduced.w[i] = s.w[sub.index[i]];
+    reduced.a[i] = s.a[sub.index[i]];
+    reduced.b[i] = s.b[sub.index[i]];
+    reduced.lambda[i] = sub.lambda[i];
+  }
+  s = reduced;
+  return inside;
+}
+
+inline Eigen::Vector3d weighted(const std::array<Eigen::Vector3d, 4>& p, const GjkSimplex& s) {
+  Eigen::Vector3d x = s.lambda[0] * p[0];
+  for (int i = 1; i < s.size; ++i) x += s.lambda[i] * p[i];
+  return x;
+}
+
+template <bool kBoolean, class A, class B>
+GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, double scale, double margin,
+              const GjkSettings& settings) {
+  GjkResult r;
+  const double abs_tolerance = settings.absolute_tolerance * scale;
+  const double zero = 16.0 * std::numeric_limits<double>::epsilon() * scale;
+
+  Eigen::Vector3d axis = initial_axis;
+  if (!axis.allFinite() || !(axis.squaredNorm() > 0.0)) axis = Eigen::Vector3d::UnitX();
+  GjkSimplex& s = r.simplex;
+  s.a[0] = a.support(-axis);
+  s.b[0] = b.support(axis);
+  s.w[0] = s.a[0] - s.b[0];
+  if (!s.w[0].allFinite()) {
+    // Why: NaN/inf parameters or poses; every output stays zero.
+    r.status = GjkStatus::degenerate;
+    s.size = 0;
+    return r;
+  }
+  s.size = 1;
+  s.lambda[0] = 1.0;
+  Eigen::Vector3d v = s.w[0];
+  double vv = v.squaredNorm();
+  double lower = 0.0;
+
+  for (;;) {
+    if (vv <= zero * zero || (kBoolean && vv <= margin * margin)) {
+      r.intersecting = true;
+      break;
+    }
+    if (r.iterations >= settings.max_iterations) {
+      r.status = GjkStatus::max_iterations;
+      break;
+    }
+    ++r.iterations;
+    const Eigen::Vector3d pa = a.support(-v);
+    const Eigen::Vector3d pb = b.support(v);
+    const Eigen::Vector3d w = pa - pb;
+    if (!w.allFinite()) {
+      r.status = GjkStatus::degenerate;
+      break;
+    }
+    const double vn = std::sqrt(vv);
+    const double vw = v.dot(w);
+    lower = std::max(lower, vw / vn);
+    if (kBoolean && vw > margin * vn) break;  // a separating axis: done
+    const double gap = vv - vw;
+    if (gap <= std::max(settings.relative_tolerance * vv, abs_tolerance * vn)) break;
+    bool duplicate = false;
+    for (int i = 0; i < s.size; ++i) duplicate = duplicate || s.w[i] == w;
+    if (duplicate) break;
+
+    GjkSimplex next = s;
+    next.w[next.size] = w;
+    next.a[next.size] = pa;
+    next.b[next.size] = pb;
+    ++next.size;
+    const bool inside = signed_volumes(next);
+    if (inside) {
+      s = next;
+      r.intersecting = true;
+      break;
+    }
+    const Eigen::Vector3d v_next = weighted(next.w, next);
+    const double vv_next = v_next.squaredNorm();
+    // Strict decrease, written so that NaN fails it: keep the previous,
+    // better simplex and stop.
+    if (!(vv_next < vv)) break;
+    s = next;
+    v = v_next;
+    vv = vv_next;
+  }
+
+  r.point_a = weighted(s.a, s);
+  r.point_b = weighted(s.b, s);
+  r.v = v;
+  if (r.intersecting) {
+    r.distance = 0.0;
+    r.lower_bound = 0.0;
+    r.error_bound = 0.0;
+  } else {
+    r.distance = std::sqrt(vv);
+    r.lower_bound = std::min(std::max(lower, 0.0), r.distance);
+    r.error_bound = r.distance - r.lower_bound;
+  }
+  return r;
+}
+
+}  // namespace gjk_detail
+
+// Distance between two support types given in a common frame: intersecting
+// flag, |v|, both witness points, a certified error bound. `scale` is the
+// shapes' size (for the absolute tolerance and the zero threshold).
+template <class A, class B>
+GjkResult gjk_distance(const A& a, const B& b, const Eigen::Vector3d& initial_axis, double scale,
+                       const GjkSettings& settings = {}) {
+  return gjk_detail::run<false>(a, b, initial_axis, scale, 0.0, settings);
+}
+
+// Whether dist(A, B) <= margin (margin >= 0: the sum of the radii added
+// around the cores). Stops at the first separating axis or as soon as |v|
+// proves the overlap; distance and witnesses in the result are then only the
+// state reached, not converged values.
+template <class A, class B>
+GjkResult gjk_intersect(const A& a, const B& b, const Eigen::Vector3d& initial_axis, double scale, double margin,
+                        const GjkSettings& settings = {}) {
+  return gjk_detail::run<true>(a, b, initial_axis, scale, margin, settings);
+}
+
+}  // namespace hedra::collision

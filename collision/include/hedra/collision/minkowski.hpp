@@ -1,0 +1,105 @@
+// Poses and the small wrappers that compose support mappings without virtual
+// calls: each wrapper is itself a support type (`support(d) const`).
+//
+//   Transformed<S>          s'(d) = R s(R^T d) + t: a core placed by a pose;
+//   Rounded<S>              s'(d) = s(d) + r d/|d|: a core plus a ball
+//                           (used where the full shape is needed, e.g. EPA);
+//   MinkowskiDifference<A,B> s'(d) = a(d) - b(-d): the configuration-space
+//                           obstacle whose distance to the origin is the
+//                           distance between A and B.
+//
+// Frames. The query layer never transforms vertex arrays and never works in
+// world coordinates: B is expressed in A's core frame once per query,
+//   R = R_a^T R_b,
+//   t = R_a^T ((t_b - t_a) + (R_b o_b - R_a o_a)),
+// where o_a, o_b are the cores' offsets in their shapes' frames (a
+// polyhedron's centroid, zero otherwise). The large world translations are
+// subtracted first, exactly when they are close, and only then combined with
+// the small offset terms, so shapes at 1e6 lose nothing of their own size.
+// Results go back to world coordinates at the very end.
+//
+// Rounding (spheres, capsules, margins) is never pushed through GJK: the
+// core's answer is offset by the radius along the normal analytically.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <hedra/collision/support.hpp>
+
+namespace hedra::collision {
+
+// A rigid motion: x_world = rotation * x_local + translation. `rotation`
+// must be orthonormal with determinant +1 (from_quaternion normalises).
+struct Pose {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+
+  static Pose identity() { return {}; }
+  static Pose from_translation(const Eigen::Vector3d& t) { return {Eigen::Matrix3d::Identity(), t}; }
+  static Pose from_quaternion(const Eigen::Quaterniond& q, const Eigen::Vector3d& t) {
+    return {q.normalized().toRotationMatrix(), t};
+  }
+  Eigen::Vector3d apply(const Eigen::Vector3d& x) const { return rotation * x + translation; }
+  bool finite() const { return rotation.allFinite() && translation.allFinite(); }
+};
+
+template <class S>
+struct Transformed {
+  const S& shape;
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+  Eigen::Vector3d support(const Eigen::Vector3d& d) const {
+    return rotation * shape.support(rotation.transpose() * d) + translation;
+  }
+};
+
+template <class S>
+struct Rounded {
+  const S& core;
+  double radius = 0.0;
+  Eigen::Vector3d support(const Eigen::Vector3d& d) const { return core.support(d) + radius * safe_unit(d); }
+};
+
+template <class A, class B>
+struct MinkowskiDifference {
+  const A& a;
+  const B& b;
+  Eigen::Vector3d support(const Eigen::Vector3d& d) const { return a.support(d) - b.support(-d); }
+};
+
+// B's core pose in A's core frame (see the top of this file).
+struct RelativePose {
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+};
+
+inline RelativePose relative_pose(const Pose& pose_a, const Eigen::Vector3d& offset_a, const Pose& pose_b,
+                                  const Eigen::Vector3d& offset_b) {
+  const Eigen::Vector3d between =
+      (pose_b.translation - pose_a.translation) + (pose_b.rotation * offset_b - pose_a.rotation * offset_a);
+  return {pose_a.rotation.transpose() * pose_b.rotation, pose_a.rotation.transpose() * between};
+}
+
+// A shape split into its core (what GJK runs on), the radius added
+// analytically, and the core's offset in the shape's frame.
+inline PointCore core_of(const Sphere&) { return {}; }
+inline BoxCore core_of(const Box& s) { return {s.half_extents}; }
+inline SegmentCore core_of(const Capsule& s) { return {s.half_length}; }
+inline CylinderCore core_of(const Cylinder& s) { return {s.radius, s.half_length}; }
+inline ConeCore core_of(const Cone& s) { return {s.radius, s.half_length}; }
+inline PolyhedronCore core_of(const Polyhedron& s) { return {s.hull.get(), 0}; }
+
+inline double core_radius(const Sphere& s) { return s.radius + s.margin; }
+inline double core_radius(const Box& s) { return s.margin; }
+inline double core_radius(const Capsule& s) { return s.radius + s.margin; }
+inline double core_radius(const Cylinder& s) { return s.margin; }
+inline double core_radius(const Cone& s) { return s.margin; }
+inline double core_radius(const Polyhedron& s) { return s.margin; }
+
+template <class S>
+Eigen::Vector3d core_offset(const S&) {
+  return Eigen::Vector3d::Zero();
+}
+inline Eigen::Vector3d core_offset(const Polyhedron& s) { return s.hull->offset(); }
+
+}  // namespace hedra::collision

@@ -1,0 +1,160 @@
+// Convex shapes of hedra::collision, each in its own local frame.
+//
+//   Sphere       centre at the origin, `radius`.
+//   Box          centred, axis-aligned in its frame, `half_extents`.
+//   Capsule      the segment from (0,0,-half_length) to (0,0,+half_length)
+//                swept by a ball of `radius`.
+//   Cylinder     axis z, `radius`, from z = -half_length to +half_length.
+//   Cone         axis z, apex at (0,0,+half_length), base disc of `radius`
+//                at z = -half_length.
+//   Polyhedron   a shared, immutable ConvexPolyhedron (the convex hull of a
+//                point set, built once by hull/'s quickhull).
+//
+// Every shape carries an optional `margin` >= 0: the shape is then its
+// Minkowski sum with a ball of that radius (a rounded box, a rounded hull...).
+// The query layer never pushes rounding through GJK: a shape splits into a
+// core (a point for spheres, a segment for capsules, the shape itself
+// otherwise) and a radius added analytically (see minkowski.hpp).
+//
+// ConvexPolyhedron stores its vertices recentred on the hull's centroid and
+// keeps the centroid as offset(): vertex(i) + offset() is the vertex in the
+// frame of the input points. Support queries and tolerances therefore work
+// with coordinates of the hull's own size, however far from the origin the
+// input points were. Besides the half-edge mesh it keeps the vertex adjacency
+// in compressed rows (neighbour indices of vertex i in
+// neighbors[neighbor_offsets[i] .. neighbor_offsets[i+1])), derived from the
+// half-edge rings, for the hill-climbing support.
+//
+// Invariants: every shape that passed validate() has finite, non-negative
+// parameters; a ConvexPolyhedron exists only if the hull was built (at least
+// one vertex, all finite) and is never modified afterwards, so it can be
+// shared between bodies and threads through std::shared_ptr<const ...>.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <hedra/hull/half_edge_mesh.hpp>
+#include <hedra/hull/quickhull.hpp>
+#include <memory>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace hedra::collision {
+
+enum class ShapeError {
+  none,
+  non_finite,       // a NaN or infinite parameter or point
+  negative_size,    // a negative radius, half-length or half-extent
+  negative_margin,  // margin < 0
+  empty_points,     // a polyhedron built from no points
+  hull_failed,      // quickhull reported an error (message says which)
+  null_polyhedron,  // a Polyhedron shape without its hull
+};
+
+const char* to_string(ShapeError error);
+
+struct ShapeValidation {
+  ShapeError error = ShapeError::none;
+  std::string message;  // empty when ok
+  bool ok() const { return error == ShapeError::none; }
+};
+
+struct Sphere {
+  double radius = 0.0;
+  double margin = 0.0;
+};
+
+struct Box {
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
+  double margin = 0.0;
+};
+
+struct Capsule {
+  double half_length = 0.0;
+  double radius = 0.0;
+  double margin = 0.0;
+};
+
+struct Cylinder {
+  double radius = 0.0;
+  double half_length = 0.0;
+  double margin = 0.0;
+};
+
+struct Cone {
+  double radius = 0.0;       // of the base disc at z = -half_length
+  double half_length = 0.0;  // apex at z = +half_length
+  double margin = 0.0;
+};
+
+class ConvexPolyhedron {
+ public:
+  struct BuildResult {
+    std::shared_ptr<const ConvexPolyhedron> polyhedron;  // null unless ok()
+    ShapeError error = ShapeError::none;
+    std::string message;
+    bool ok() const { return error == ShapeError::none; }
+  };
+
+  // The convex hull of `points` (quickhull; degenerate inputs give point,
+  // segment or flat hulls, which are valid shapes).
+  static BuildResult build(const std::vector<Eigen::Vector3d>& points, const hull::QuickhullOptions& options = {});
+
+  // The hull's centroid in the frame of the input points (solid centroid,
+  // area centroid when flat, vertex average for a point or segment).
+  const Eigen::Vector3d& offset() const { return offset_; }
+  std::size_t vertex_count() const { return vertices_.size(); }
+  // Vertex i relative to offset().
+  const Eigen::Vector3d& vertex(hull::Index i) const { return vertices_[i]; }
+  const std::vector<Eigen::Vector3d>& vertices() const { return vertices_; }
+  // Neighbours of vertex i along hull edges (empty for point and segment
+  // hulls, whose meshes have no edges).
+  const hull::Index* neighbors_begin(hull::Index i) const { return neighbors_.data() + neighbor_offsets_[i]; }
+  const hull::Index* neighbors_end(hull::Index i) const { return neighbors_.data() + neighbor_offsets_[i + 1]; }
+  // The half-edge mesh, recentred like vertex() (same vertex indices).
+  const hull::HalfEdgeMesh& mesh() const { return mesh_; }
+  int dimension() const { return mesh_.dimension(); }
+  // max |vertex(i)|: the radius of a ball around offset() holding the hull.
+  double bounding_radius() const { return bounding_radius_; }
+
+ private:
+  ConvexPolyhedron() = default;
+
+  Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> vertices_;
+  std::vector<std::uint32_t> neighbor_offsets_;  // vertex_count() + 1 entries
+  std::vector<hull::Index> neighbors_;
+  hull::HalfEdgeMesh mesh_;
+  double bounding_radius_ = 0.0;
+};
+
+struct Polyhedron {
+  std::shared_ptr<const ConvexPolyhedron> hull;
+  double margin = 0.0;
+};
+
+// A small closed set of shapes: queries dispatch once on it (std::visit) and
+// run fully typed code inside.
+using Shape = std::variant<Sphere, Box, Capsule, Cylinder, Cone, Polyhedron>;
+
+ShapeValidation validate(const Sphere& s);
+ShapeValidation validate(const Box& s);
+ShapeValidation validate(const Capsule& s);
+ShapeValidation validate(const Cylinder& s);
+ShapeValidation validate(const Cone& s);
+ShapeValidation validate(const Polyhedron& s);
+ShapeValidation validate(const Shape& s);
+
+// Radius of a ball around the local origin holding the whole shape (margin
+// included). For a polyhedron the ball is centred on offset() instead, the
+// point queries work around.
+double bounding_radius(const Sphere& s);
+double bounding_radius(const Box& s);
+double bounding_radius(const Capsule& s);
+double bounding_radius(const Cylinder& s);
+double bounding_radius(const Cone& s);
+double bounding_radius(const Polyhedron& s);
+double bounding_radius(const Shape& s);
+
+}  // namespace hedra::collision

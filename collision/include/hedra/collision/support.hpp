@@ -1,0 +1,192 @@
+// Support mappings in the local frame: s(d) = argmax_{x in shape} d . x.
+//
+// Cores (PointCore, SegmentCore, BoxCore, CylinderCore, ConeCore,
+// PolyhedronCore) are the shapes without their rounding; each is a "support"
+// type: `Eigen::Vector3d support(const Eigen::Vector3d& d) const`, the
+// concept GJK is written against. support(shape, d) gives the full shape
+// (core + radius, margin included) for callers outside the GJK loop.
+//
+// Ties: any maximiser is a valid answer. Boxes, segments, cylinders and cones
+// break ties towards +axis (sign(0) = +1); a cylinder or cone direction
+// parallel to the axis (|d_xy| <= eps |d|) returns the rim point on +x, whose
+// support value is off by at most radius * eps * |d|.
+//
+// Polyhedra: a linear scan below kHillClimbCrossover vertices, above it
+// hill-climbing over the vertex adjacency of the half-edge mesh: from the hint
+// vertex, move to the neighbour with the largest d . x while it strictly
+// improves. On a convex polytope a vertex none of whose neighbours is
+// strictly better is a global maximiser (the edge graph of a polytope reaches
+// every vertex along non-decreasing d . x from any vertex that is not a
+// maximiser, the simplex method's optimality argument), so the answer is
+// exact, plateaus included, provided coplanar faces are merged: quickhull
+// merges them, so no face is reflex beyond its tolerance. Each step strictly
+// increases d . x, so the walk visits a vertex at most once; its cap (the
+// vertex count) can only be reached by a broken mesh or a non-finite
+// direction, and then the linear scan answers instead. A NaN direction
+// compares false everywhere and returns the start vertex: callers reject
+// non-finite directions before (GJK does).
+//
+// The crossover (32, as Coal uses) is a placeholder until the support
+// benchmark (issue 3) measures it on this code.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstddef>
+#include <hedra/collision/shapes.hpp>
+#include <limits>
+
+namespace hedra::collision {
+
+inline constexpr std::size_t kHillClimbCrossover = 32;
+
+// Index of a vertex maximising d . vertex(i); the first such vertex.
+inline hull::Index polyhedron_support_scan(const ConvexPolyhedron& poly, const Eigen::Vector3d& d) {
+  const std::vector<Eigen::Vector3d>& v = poly.vertices();
+  hull::Index best = 0;
+  double best_value = d.dot(v[0]);
+  for (std::size_t i = 1; i < v.size(); ++i) {
+    const double value = d.dot(v[i]);
+    if (value > best_value) {
+      best_value = value;
+      best = static_cast<hull::Index>(i);
+    }
+  }
+  return best;
+}
+
+// Steepest-ascent hill-climbing from `start` (any vertex index; out of range
+// means 0). Exact as argued at the top of this file.
+inline hull::Index polyhedron_support_climb(const ConvexPolyhedron& poly, const Eigen::Vector3d& d, hull::Index start) {
+  const std::size_t n = poly.vertex_count();
+  hull::Index current = start < n ? start : 0;
+  double current_value = d.dot(poly.vertex(current));
+  for (std::size_t step = 0; step < n; ++step) {
+    hull::Index best = current;
+    double best_value = current_value;
+    for (const hull::Index* it = poly.neighbors_begin(current); it != poly.neighbors_end(current); ++it) {
+      const double value = d.dot(poly.vertex(*it));
+      if (value > best_value) {
+        best_value = value;
+        best = *it;
+      }
+    }
+    if (best == current) return current;
+    current = best;
+    current_value = best_value;
+  }
+  // Unreachable on a valid hull with a finite direction (see above).
+  return polyhedron_support_scan(poly, d);
+}
+
+inline hull::Index polyhedron_support(const ConvexPolyhedron& poly, const Eigen::Vector3d& d, hull::Index hint) {
+  if (poly.vertex_count() < kHillClimbCrossover || poly.dimension() < 2) return polyhedron_support_scan(poly, d);
+  return polyhedron_support_climb(poly, d, hint);
+}
+
+// sign with sign(0) = +1: ties go to the + side.
+inline double support_sign(double x) { return x >= 0.0 ? 1.0 : -1.0; }
+
+// Unit vector of (d.x, d.y, 0) scaled by r, or (r, 0, 0) when d is (nearly)
+// parallel to z; the threshold is relative to |d|, so the support value is
+// off by at most r * eps * |d|.
+inline Eigen::Vector3d support_disc(const Eigen::Vector3d& d, double r) {
+  const double dxy = std::hypot(d.x(), d.y());
+  if (!(dxy > std::numeric_limits<double>::epsilon() * d.norm())) return {r, 0.0, 0.0};
+  return {r * d.x() / dxy, r * d.y() / dxy, 0.0};
+}
+
+// ---- cores: the support types GJK runs on ----------------------------------
+
+struct PointCore {
+  Eigen::Vector3d support(const Eigen::Vector3d&) const { return Eigen::Vector3d::Zero(); }
+  double bounding_radius() const { return 0.0; }
+};
+
+struct SegmentCore {  // (0,0,-h) .. (0,0,+h)
+  double half_length = 0.0;
+  Eigen::Vector3d support(const Eigen::Vector3d& d) const { return {0.0, 0.0, support_sign(d.z()) * half_length}; }
+  double bounding_radius() const { return half_length; }
+};
+
+struct BoxCore {
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
+  Eigen::Vector3d support(const Eigen::Vector3d& d) const {
+    return {support_sign(d.x()) * half_extents.x(), support_sign(d.y()) * half_extents.y(),
+            support_sign(d.z()) * half_extents.z()};
+  }
+  double bounding_radius() const { return half_extents.norm(); }
+};
+
+struct CylinderCore {
+  double radius = 0.0;
+  double half_length = 0.0;
+  Eigen::Vector3d support(const Eigen::Vector3d& d) const {
+    Eigen::Vector3d s = support_disc(d, radius);
+    s.z() = support_sign(d.z()) * half_length;
+    return s;
+  }
+  double bounding_radius() const { return std::hypot(radius, half_length); }
+};
+
+struct ConeCore {  // apex (0,0,+h), base disc of radius r at z = -h
+  double radius = 0.0;
+  double half_length = 0.0;
+  Eigen::Vector3d support(const Eigen::Vector3d& d) const {
+    // The maximiser is the apex or a point of the base rim: compare the two.
+    Eigen::Vector3d rim = support_disc(d, radius);
+    rim.z() = -half_length;
+    const double apex_value = d.z() * half_length;
+    if (apex_value >= d.dot(rim)) return {0.0, 0.0, half_length};
+    return rim;
+  }
+  double bounding_radius() const { return std::hypot(radius, half_length); }
+};
+
+// A polyhedron around its centroid (vertex(i), without offset()). `hint` is
+// per-query state: the last answer, the start of the next climb. The wrapper
+// lives on the caller's stack; the shared hull is never written.
+struct PolyhedronCore {
+  const ConvexPolyhedron* poly = nullptr;
+  mutable hull::Index hint = 0;
+  Eigen::Vector3d support(const Eigen::Vector3d& d) const {
+    hint = polyhedron_support(*poly, d, hint);
+    return poly->vertex(hint);
+  }
+  double bounding_radius() const { return poly->bounding_radius(); }
+};
+
+// ---- full shapes in their local frame (core + radius + margin) -----------
+
+// d / |d|, or zero when d is zero or not finite (the rounding then adds
+// nothing, which keeps the answer finite).
+inline Eigen::Vector3d safe_unit(const Eigen::Vector3d& d) {
+  const double n = d.norm();
+  if (!(n > 0.0) || !std::isfinite(n)) return Eigen::Vector3d::Zero();
+  return d / n;
+}
+
+inline Eigen::Vector3d support(const Sphere& s, const Eigen::Vector3d& d) {
+  return (s.radius + s.margin) * safe_unit(d);
+}
+inline Eigen::Vector3d support(const Box& s, const Eigen::Vector3d& d) {
+  return BoxCore{s.half_extents}.support(d) + s.margin * safe_unit(d);
+}
+inline Eigen::Vector3d support(const Capsule& s, const Eigen::Vector3d& d) {
+  return SegmentCore{s.half_length}.support(d) + (s.radius + s.margin) * safe_unit(d);
+}
+inline Eigen::Vector3d support(const Cylinder& s, const Eigen::Vector3d& d) {
+  return CylinderCore{s.radius, s.half_length}.support(d) + s.margin * safe_unit(d);
+}
+inline Eigen::Vector3d support(const Cone& s, const Eigen::Vector3d& d) {
+  return ConeCore{s.radius, s.half_length}.support(d) + s.margin * safe_unit(d);
+}
+inline Eigen::Vector3d support(const Polyhedron& s, const Eigen::Vector3d& d) {
+  const hull::Index i = polyhedron_support(*s.hull, d, 0);
+  return s.hull->offset() + s.hull->vertex(i) + s.margin * safe_unit(d);
+}
+inline Eigen::Vector3d support(const Shape& s, const Eigen::Vector3d& d) {
+  return std::visit([&d](const auto& shape) { return support(shape, d); }, s);
+}
+
+}  // namespace hedra::collision

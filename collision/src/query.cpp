@@ -1,0 +1,155 @@
+// The type-erased queries: one std::visit over the pair of shapes, then typed
+// GJK on the cores in A's core frame (see query.hpp and minkowski.hpp).
+// Polyhedron support hints travel through the caller's GjkCache.
+#include <algorithm>
+#include <cmath>
+#include <hedra/collision/query.hpp>
+#include <utility>
+
+namespace hedra::collision {
+
+const char* to_string(Status status) {
+  switch (status) {
+    case Status::ok:
+      return "ok";
+    case Status::max_iterations:
+      return "max_iterations";
+    case Status::degenerate:
+      return "degenerate";
+    case Status::invalid_input:
+      return "invalid_input";
+  }
+  return "unknown";
+}
+
+namespace {
+
+Status to_status(GjkStatus s) {
+  switch (s) {
+    case GjkStatus::ok:
+      return Status::ok;
+    case GjkStatus::max_iterations:
+      return Status::max_iterations;
+    case GjkStatus::degenerate:
+      return Status::degenerate;
+  }
+  return Status::degenerate;
+}
+
+template <class Core>
+void load_hint(Core&, hull::Index) {}
+void load_hint(PolyhedronCore& core, hull::Index hint) { core.hint = hint; }
+template <class Core>
+hull::Index hint_of(const Core&) {
+  return 0;
+}
+hull::Index hint_of(const PolyhedronCore& core) { return core.hint; }
+
+bool inputs_valid(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
+  return pose_a.finite() && pose_b.finite() && validate(a).ok() && validate(b).ok();
+}
+
+// Everything a query needs, typed: both cores, B's core in A's core frame,
+// the radii and the scale of the pair.
+template <class SA, class SB>
+struct PairSetup {
+  decltype(core_of(std::declval<const SA&>())) core_a;
+  decltype(core_of(std::declval<const SB&>())) core_b;
+  RelativePose relative;
+  double radius_a;
+  double radius_b;
+  double scale;
+  Eigen::Vector3d initial_axis;
+
+  PairSetup(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, const GjkCache* cache)
+      : core_a(core_of(a)),
+        core_b(core_of(b)),
+        relative(relative_pose(pose_a, core_offset(a), pose_b, core_offset(b))),
+        radius_a(core_radius(a)),
+        radius_b(core_radius(b)) {
+    scale = std::max(core_a.bounding_radius() + radius_a, core_b.bounding_radius() + radius_b);
+    // The centre difference (A - B contains core_a's origin minus core_b's).
+    initial_axis = -relative.translation;
+    if (cache && cache->valid) {
+      initial_axis = cache->axis;
+      load_hint(core_a, cache->hint_a);
+      load_hint(core_b, cache->hint_b);
+    }
+  }
+
+  void store(GjkCache* cache, const GjkResult& g) const {
+    if (!cache) return;
+    if (g.v.allFinite() && g.v.squaredNorm() > 0.0) {
+      cache->axis = g.v;
+      cache->valid = true;
+    }
+    cache->hint_a = hint_of(core_a);
+    cache->hint_b = hint_of(core_b);
+  }
+};
+
+template <class SA, class SB>
+IntersectResult intersect_typed(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, GjkCache* cache,
+                                const GjkSettings& settings) {
+  PairSetup<SA, SB> p(a, pose_a, b, pose_b, cache);
+  const Transformed<decltype(p.core_b)> placed_b{p.core_b, p.relative.rotation, p.relative.translation};
+  const GjkResult g = gjk_intersect(p.core_a, placed_b, p.initial_axis, p.scale, p.radius_a + p.radius_b, settings);
+  p.store(cache, g);
+  IntersectResult out;
+  out.status = to_status(g.status);
+  out.intersecting = g.status == GjkStatus::ok && g.intersecting;
+  out.iterations = g.iterations;
+  return out;
+}
+
+template <class SA, class SB>
+DistanceResult distance_typed(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, GjkCache* cache,
+                              const GjkSettings& settings) {
+  PairSetup<SA, SB> p(a, pose_a, b, pose_b, cache);
+  const Transformed<decltype(p.core_b)> placed_b{p.core_b, p.relative.rotation, p.relative.translation};
+  const GjkResult g = gjk_distance(p.core_a, placed_b, p.initial_axis, p.scale, settings);
+  p.store(cache, g);
+
+  DistanceResult out;
+  out.status = to_status(g.status);
+  out.iterations = g.iterations;
+  out.error_bound = g.error_bound;
+  if (g.status == GjkStatus::degenerate) return out;
+  const double radii = p.radius_a + p.radius_b;
+  if (g.intersecting || g.distance <= radii) {
+    out.intersecting = true;
+    return out;
+  }
+  out.distance = g.distance - radii;
+  // n from A toward B in A's core frame; |v| > radii >= 0 so the division is safe.
+  const Eigen::Vector3d n = -g.v / g.distance;
+  const Eigen::Vector3d local_a = g.point_a + p.radius_a * n;
+  const Eigen::Vector3d local_b = g.point_b - p.radius_b * n;
+  const Eigen::Vector3d offset_a = core_offset(a);
+  out.normal = pose_a.rotation * n;
+  out.point_a = pose_a.rotation * (offset_a + local_a) + pose_a.translation;
+  out.point_b = pose_a.rotation * (offset_a + local_b) + pose_a.translation;
+  return out;
+}
+
+}  // namespace
+
+IntersectResult intersect(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, GjkCache* cache,
+                          const GjkSettings& settings) {
+  if (!inputs_valid(a, pose_a, b, pose_b)) return {Status::invalid_input, false, 0};
+  return std::visit(
+      [&](const auto& sa, const auto& sb) { return intersect_typed(sa, pose_a, sb, pose_b, cache, settings); }, a, b);
+}
+
+DistanceResult distance(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, GjkCache* cache,
+                        const GjkSettings& settings) {
+  if (!inputs_valid(a, pose_a, b, pose_b)) {
+    DistanceResult out;
+    out.status = Status::invalid_input;
+    return out;
+  }
+  return std::visit(
+      [&](const auto& sa, const auto& sb) { return distance_typed(sa, pose_a, sb, pose_b, cache, settings); }, a, b);
+}
+
+}  // namespace hedra::collision

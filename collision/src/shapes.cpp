@@ -1,0 +1,185 @@
+// Shape validation and the ConvexPolyhedron builder: quickhull over the input
+// points, then recentring on the hull's centroid (vertices and face planes
+// shifted together, so the mesh keeps every invariant) and the vertex
+// adjacency in compressed rows for the hill-climbing support.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <hedra/collision/shapes.hpp>
+#include <hedra/hull/mass.hpp>
+
+namespace hedra::collision {
+
+const char* to_string(ShapeError error) {
+  switch (error) {
+    case ShapeError::none:
+      return "none";
+    case ShapeError::non_finite:
+      return "non_finite";
+    case ShapeError::negative_size:
+      return "negative_size";
+    case ShapeError::negative_margin:
+      return "negative_margin";
+    case ShapeError::empty_points:
+      return "empty_points";
+    case ShapeError::hull_failed:
+      return "hull_failed";
+    case ShapeError::null_polyhedron:
+      return "null_polyhedron";
+  }
+  return "unknown";
+}
+
+namespace {
+
+ShapeValidation fail(ShapeError error, const char* what, double value) {
+  char buffer[160];
+  std::snprintf(buffer, sizeof buffer, "%s = %.17g", what, value);
+  return {error, buffer};
+}
+
+// Checks one size parameter; `what` names it in the message.
+bool check_size(double value, const char* what, ShapeValidation& out) {
+  if (!std::isfinite(value)) {
+    out = fail(ShapeError::non_finite, what, value);
+    return false;
+  }
+  if (value < 0.0) {
+    out = fail(ShapeError::negative_size, what, value);
+    return false;
+  }
+  return true;
+}
+
+bool check_margin(double margin, ShapeValidation& out) {
+  if (!std::isfinite(margin)) {
+    out = fail(ShapeError::non_finite, "margin", margin);
+    return false;
+  }
+  if (margin < 0.0) {
+    out = fail(ShapeError::negative_margin, "margin", margin);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+ShapeValidation validate(const Sphere& s) {
+  ShapeValidation out;
+  if (check_size(s.radius, "sphere radius", out)) check_margin(s.margin, out);
+  return out;
+}
+
+ShapeValidation validate(const Box& s) {
+  ShapeValidation out;
+  if (check_size(s.half_extents.x(), "box half_extents.x", out) &&
+      check_size(s.half_extents.y(), "box half_extents.y", out) &&
+      check_size(s.half_extents.z(), "box half_extents.z", out))
+    check_margin(s.margin, out);
+  return out;
+}
+
+ShapeValidation validate(const Capsule& s) {
+  ShapeValidation out;
+  if (check_size(s.half_length, "capsule half_length", out) && check_size(s.radius, "capsule radius", out))
+    check_margin(s.margin, out);
+  return out;
+}
+
+ShapeValidation validate(const Cylinder& s) {
+  ShapeValidation out;
+  if (check_size(s.half_length, "cylinder half_length", out) && check_size(s.radius, "cylinder radius", out))
+    check_margin(s.margin, out);
+  return out;
+}
+
+ShapeValidation validate(const Cone& s) {
+  ShapeValidation out;
+  if (check_size(s.half_length, "cone half_length", out) && check_size(s.radius, "cone radius", out))
+    check_margin(s.margin, out);
+  return out;
+}
+
+ShapeValidation validate(const Polyhedron& s) {
+  ShapeValidation out;
+  if (!s.hull) return {ShapeError::null_polyhedron, "polyhedron without a hull"};
+  check_margin(s.margin, out);
+  return out;
+}
+
+ShapeValidation validate(const Shape& s) {
+  return std::visit([](const auto& shape) { return validate(shape); }, s);
+}
+
+double bounding_radius(const Sphere& s) { return s.radius + s.margin; }
+double bounding_radius(const Box& s) { return s.half_extents.norm() + s.margin; }
+double bounding_radius(const Capsule& s) { return s.half_length + s.radius + s.margin; }
+double bounding_radius(const Cylinder& s) { return std::hypot(s.radius, s.half_length) + s.margin; }
+double bounding_radius(const Cone& s) { return std::hypot(s.radius, s.half_length) + s.margin; }
+double bounding_radius(const Polyhedron& s) { return (s.hull ? s.hull->bounding_radius() : 0.0) + s.margin; }
+double bounding_radius(const Shape& s) {
+  return std::visit([](const auto& shape) { return bounding_radius(shape); }, s);
+}
+
+ConvexPolyhedron::BuildResult ConvexPolyhedron::build(const std::vector<Eigen::Vector3d>& points,
+                                                      const hull::QuickhullOptions& options) {
+  BuildResult result;
+  if (points.empty()) {
+    result.error = ShapeError::empty_points;
+    result.message = "no points";
+    return result;
+  }
+  hull::QuickhullResult built = hull::build_hull(points, options);
+  if (!built.ok()) {
+    // quickhull names the first non-finite point itself.
+    result.error =
+        built.status == hull::QuickhullStatus::non_finite_input ? ShapeError::non_finite : ShapeError::hull_failed;
+    result.message = std::string(hull::to_string(built.status)) + ": " + built.error;
+    return result;
+  }
+
+  std::shared_ptr<ConvexPolyhedron> poly(new ConvexPolyhedron());
+  poly->mesh_ = std::move(built.mesh);
+  hull::HalfEdgeMesh& mesh = poly->mesh_;
+  const std::size_t n = mesh.vertex_count();
+
+  // Centroid: of the solid or of the polygon's area; a point or a segment has
+  // no area, so its vertex average stands in.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  if (mesh.dimension() >= 2) {
+    const hull::MassProperties mass = hull::mass_properties(mesh);
+    centre = mass.centroid;
+  }
+  if (mesh.dimension() < 2 || !centre.allFinite()) {
+    centre.setZero();
+    for (const hull::Vertex& v : mesh.vertices) centre += v.position;
+    centre /= static_cast<double>(n);
+  }
+  poly->offset_ = centre;
+
+  // Recentre: positions and plane offsets move together (n.(x - c) = d - n.c).
+  for (hull::Vertex& v : mesh.vertices) v.position -= centre;
+  for (hull::Face& f : mesh.faces) f.plane.offset -= f.plane.normal.dot(centre);
+
+  poly->vertices_.reserve(n);
+  poly->neighbor_offsets_.assign(n + 1, 0);
+  double radius = 0.0;
+  for (hull::Index v = 0; v < n; ++v) {
+    poly->vertices_.push_back(mesh.position(v));
+    radius = std::max(radius, mesh.position(v).norm());
+  }
+  poly->bounding_radius_ = radius;
+  // Point and segment hulls have no edges: empty rows.
+  poly->neighbors_.reserve(mesh.half_edge_count());
+  for (hull::Index v = 0; v < n; ++v) {
+    if (mesh.vertices[v].edge != hull::kInvalidIndex) {
+      for (hull::Index w : mesh.vertex_neighbors(v)) poly->neighbors_.push_back(w);
+    }
+    poly->neighbor_offsets_[v + 1] = static_cast<std::uint32_t>(poly->neighbors_.size());
+  }
+  result.polyhedron = std::move(poly);
+  return result;
+}
+
+}  // namespace hedra::collision

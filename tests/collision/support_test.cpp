@@ -1,0 +1,284 @@
+// Support mappings: exactness of the polyhedron hill-climb against brute
+// force (random hulls x directions x start vertices, plateaus included:
+// boxes, prisms and face-normal directions whose maximisers are whole faces),
+// the analytic shapes against dense samples of their surfaces, the
+// ConvexPolyhedron builder (recentring, adjacency) and shape validation.
+//
+// "Exact" means: the climbed vertex's support value equals the brute-force
+// maximum up to the rounding of one dot product, 4 eps |d| R with R the hull's
+// bounding radius (ties between vertices whose values differ only by rounding
+// cannot be decided otherwise). A wrong local maximum misses by a face's
+// worth, many orders above that.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/support.hpp>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace hedra::collision {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+std::shared_ptr<const ConvexPolyhedron> make_hull(const std::vector<Eigen::Vector3d>& points) {
+  ConvexPolyhedron::BuildResult built = ConvexPolyhedron::build(points);
+  EXPECT_TRUE(built.ok()) << built.message;
+  return built.polyhedron;
+}
+
+Eigen::Vector3d random_unit(std::mt19937_64& rng) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::Vector3d d(g(rng), g(rng), g(rng));
+  return d.normalized();
+}
+
+std::vector<Eigen::Vector3d> random_ball_points(std::mt19937_64& rng, int n, bool on_sphere) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i < n; ++i) {
+    const double r = on_sphere ? 1.0 : std::cbrt(u(rng));
+    p.push_back(r * random_unit(rng));
+  }
+  return p;
+}
+
+// A right prism over a regular n-gon: two n-gon faces and n rectangles, every
+// one a plateau for its normal.
+std::vector<Eigen::Vector3d> prism(int n, double radius, double half_height) {
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * M_PI * i / n;
+    p.emplace_back(radius * std::cos(a), radius * std::sin(a), -half_height);
+    p.emplace_back(radius * std::cos(a), radius * std::sin(a), half_height);
+  }
+  return p;
+}
+
+// A box sampled with a grid on every face: many coplanar points, 8 vertices.
+std::vector<Eigen::Vector3d> gridded_box(const Eigen::Vector3d& h, int k) {
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i <= k; ++i)
+    for (int j = 0; j <= k; ++j)
+      for (int l = 0; l <= k; ++l) {
+        if (i != 0 && i != k && j != 0 && j != k && l != 0 && l != k) continue;
+        p.emplace_back(h.x() * (2.0 * i / k - 1.0), h.y() * (2.0 * j / k - 1.0), h.z() * (2.0 * l / k - 1.0));
+      }
+  return p;
+}
+
+struct ClimbStats {
+  long checks = 0;
+  long exact = 0;  // bit-identical support value
+  double worst = 0.0;
+};
+
+// Every direction from every given start: climb vs brute force.
+void check_climb(const ConvexPolyhedron& poly, const std::vector<Eigen::Vector3d>& directions,
+                 const std::vector<hull::Index>& starts, ClimbStats& stats) {
+  for (const Eigen::Vector3d& d : directions) {
+    double brute = -std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& v : poly.vertices()) brute = std::max(brute, d.dot(v));
+    const hull::Index scanned = polyhedron_support_scan(poly, d);
+    ASSERT_EQ(d.dot(poly.vertex(scanned)), brute);
+    const double tolerance = 4.0 * kEps * d.norm() * poly.bounding_radius();
+    for (hull::Index s : starts) {
+      const hull::Index climbed = polyhedron_support_climb(poly, d, s);
+      ASSERT_LT(climbed, poly.vertex_count());
+      const double value = d.dot(poly.vertex(climbed));
+      const double miss = brute - value;
+      ++stats.checks;
+      if (miss == 0.0) ++stats.exact;
+      stats.worst = std::max(stats.worst, miss / std::max(tolerance, 1e-300));
+      ASSERT_LE(miss, tolerance) << "start " << s << " direction " << d.transpose() << " vertices "
+                                 << poly.vertex_count();
+    }
+  }
+}
+
+std::vector<Eigen::Vector3d> directions_for(const ConvexPolyhedron& poly, std::mt19937_64& rng, int random_count) {
+  std::vector<Eigen::Vector3d> dirs;
+  for (int i = 0; i < random_count; ++i) dirs.push_back(random_unit(rng));
+  // Plateaus: face normals (whole faces tie), axes (edges of boxes tie).
+  for (const hull::Face& f : poly.mesh().faces) dirs.push_back(f.plane.normal);
+  for (int a = 0; a < 3; ++a) {
+    dirs.push_back(Eigen::Vector3d::Unit(a));
+    dirs.push_back(-Eigen::Vector3d::Unit(a));
+  }
+  return dirs;
+}
+
+std::vector<hull::Index> starts_for(const ConvexPolyhedron& poly, std::mt19937_64& rng, int count) {
+  std::uniform_int_distribution<hull::Index> pick(0, static_cast<hull::Index>(poly.vertex_count() - 1));
+  std::vector<hull::Index> s = {0, static_cast<hull::Index>(poly.vertex_count() - 1)};
+  for (int i = 0; i < count; ++i) s.push_back(pick(rng));
+  return s;
+}
+
+TEST(PolyhedronSupport, ClimbMatchesBruteForceOnRandomHulls) {
+  std::mt19937_64 rng(20240531);
+  std::uniform_int_distribution<int> size(4, 200);
+  ClimbStats stats;
+  for (int trial = 0; trial < 1000; ++trial) {
+    const auto poly = make_hull(random_ball_points(rng, size(rng), trial % 2 == 0));
+    ASSERT_TRUE(poly);
+    ASSERT_EQ(poly->dimension(), 3);
+    check_climb(*poly, directions_for(*poly, rng, 20), starts_for(*poly, rng, 6), stats);
+  }
+  EXPECT_GT(stats.checks, 50000);
+  // Almost every answer is bit-exact; the rest are rounding-level ties.
+  EXPECT_GT(stats.exact, stats.checks * 99 / 100);
+}
+
+TEST(PolyhedronSupport, ClimbIsExactOnPlateaus) {
+  std::mt19937_64 rng(7);
+  ClimbStats stats;
+  std::vector<std::vector<Eigen::Vector3d>> inputs = {gridded_box({1.0, 2.0, 3.0}, 6),
+                                                      gridded_box({1e-3, 1e3, 1.0}, 3)};
+  for (int n : {3, 4, 5, 8, 17, 64}) inputs.push_back(prism(n, 1.0, n % 2 ? 0.01 : 5.0));
+  for (const auto& points : inputs) {
+    const auto poly = make_hull(points);
+    ASSERT_TRUE(poly);
+    // Rotated copies too: the ties then differ by rounding only.
+    check_climb(*poly, directions_for(*poly, rng, 200), starts_for(*poly, rng, 8), stats);
+    const Eigen::Matrix3d r = Eigen::Quaterniond::UnitRandom().toRotationMatrix();
+    std::vector<Eigen::Vector3d> rotated;
+    for (const auto& p : points) rotated.push_back(r * p);
+    const auto rotated_poly = make_hull(rotated);
+    check_climb(*rotated_poly, directions_for(*rotated_poly, rng, 200), starts_for(*rotated_poly, rng, 8), stats);
+  }
+  const auto box = make_hull(gridded_box({1.0, 2.0, 3.0}, 6));
+  EXPECT_EQ(box->vertex_count(), 8u);  // coplanar grid points merged away
+  EXPECT_GT(stats.checks, 10000);
+}
+
+TEST(PolyhedronSupport, ClimbOnFlatHulls) {
+  std::mt19937_64 rng(11);
+  ClimbStats stats;
+  for (int trial = 0; trial < 50; ++trial) {
+    // Random points in a tilted plane: a flat polygon with two faces.
+    const Eigen::Vector3d e1 = random_unit(rng);
+    const Eigen::Vector3d e2 = e1.unitOrthogonal();
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < 200; ++i) points.push_back(u(rng) * e1 + u(rng) * e2);
+    const auto poly = make_hull(points);
+    ASSERT_EQ(poly->dimension(), 2);
+    std::vector<Eigen::Vector3d> dirs = directions_for(*poly, rng, 40);
+    dirs.push_back(e1.cross(e2));  // the whole polygon ties
+    check_climb(*poly, dirs, starts_for(*poly, rng, 4), stats);
+  }
+  EXPECT_GT(stats.checks, 5000);
+}
+
+TEST(PolyhedronSupport, DispatchAndHintOnLargeHull) {
+  std::mt19937_64 rng(3);
+  const auto poly = make_hull(random_ball_points(rng, 20000, true));
+  ASSERT_GT(poly->vertex_count(), kHillClimbCrossover);
+  // Directions rotating slowly, the hint carried along as a cache would.
+  PolyhedronCore core{poly.get(), 0};
+  Eigen::Vector3d d = random_unit(rng);
+  const Eigen::Matrix3d step = Eigen::AngleAxisd(0.05, random_unit(rng)).toRotationMatrix();
+  for (int i = 0; i < 500; ++i) {
+    d = step * d;
+    const Eigen::Vector3d s = core.support(d);
+    EXPECT_EQ(d.dot(s), d.dot(poly->vertex(polyhedron_support_scan(*poly, d))));
+  }
+}
+
+TEST(ConvexPolyhedron, RecentredOnCentroidWithOffsetKept) {
+  // A unit cube far from the origin: offset is its centre, vertices +-0.5.
+  const Eigen::Vector3d far(1e6, -2e6, 3e6);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 8; ++i) points.push_back(far + Eigen::Vector3d(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+  points.push_back(far + Eigen::Vector3d(0.5, 0.5, 0.5));  // interior
+  const auto poly = make_hull(points);
+  ASSERT_EQ(poly->vertex_count(), 8u);
+  EXPECT_LT((poly->offset() - (far + Eigen::Vector3d::Constant(0.5))).norm(), 1e-9);
+  for (const Eigen::Vector3d& v : poly->vertices()) EXPECT_NEAR(v.cwiseAbs().maxCoeff(), 0.5, 1e-9);
+  EXPECT_NEAR(poly->bounding_radius(), std::sqrt(0.75), 1e-9);
+  EXPECT_TRUE(poly->mesh().validate().ok()) << poly->mesh().validate().to_string();
+  // Each vertex has exactly 3 neighbours on a cube, each at distance 1.
+  for (hull::Index v = 0; v < 8; ++v) {
+    ASSERT_EQ(poly->neighbors_end(v) - poly->neighbors_begin(v), 3);
+    for (const hull::Index* w = poly->neighbors_begin(v); w != poly->neighbors_end(v); ++w)
+      EXPECT_NEAR((poly->vertex(*w) - poly->vertex(v)).norm(), 1.0, 1e-9);
+  }
+  // The full-shape support adds the offset back.
+  const Polyhedron shape{poly, 0.0};
+  EXPECT_LT((support(Shape(shape), Eigen::Vector3d(1, 1, 1)) - (far + Eigen::Vector3d::Ones())).norm(), 1e-9);
+}
+
+TEST(ConvexPolyhedron, DegenerateInputsAndErrors) {
+  const auto point = make_hull({Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(1, 2, 3)});
+  EXPECT_EQ(point->dimension(), 0);
+  EXPECT_EQ(point->offset(), Eigen::Vector3d(1, 2, 3));
+  const auto segment = make_hull({Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(1, 0, 0)});
+  EXPECT_EQ(segment->dimension(), 1);
+  EXPECT_EQ(segment->vertex_count(), 2u);
+  EXPECT_NEAR(polyhedron_support(*segment, {-1, 0, 0}, 0) == 0 ? segment->vertex(0).x() : segment->vertex(1).x(), -1.0,
+              1e-12);
+
+  EXPECT_EQ(ConvexPolyhedron::build({}).error, ShapeError::empty_points);
+  const auto nan = ConvexPolyhedron::build({Eigen::Vector3d(0, 0, std::nan(""))});
+  EXPECT_EQ(nan.error, ShapeError::non_finite);
+  EXPECT_FALSE(nan.polyhedron);
+}
+
+TEST(ShapeValidation, RejectsNegativeAndNonFinite) {
+  EXPECT_TRUE(validate(Shape(Sphere{1.0, 0.0})).ok());
+  EXPECT_TRUE(validate(Shape(Sphere{0.0, 0.0})).ok());  // a point is a valid sphere
+  EXPECT_EQ(validate(Shape(Sphere{-1.0, 0.0})).error, ShapeError::negative_size);
+  EXPECT_EQ(validate(Shape(Capsule{1.0, std::nan(""), 0.0})).error, ShapeError::non_finite);
+  EXPECT_EQ(validate(Shape(Box{{1.0, -2.0, 1.0}, 0.0})).error, ShapeError::negative_size);
+  EXPECT_EQ(validate(Shape(Cylinder{1.0, 1.0, -0.1})).error, ShapeError::negative_margin);
+  EXPECT_EQ(validate(Shape(Cone{1.0, INFINITY, 0.0})).error, ShapeError::non_finite);
+  EXPECT_EQ(validate(Shape(Polyhedron{nullptr, 0.0})).error, ShapeError::null_polyhedron);
+  EXPECT_NE(validate(Shape(Sphere{-1.0, 0.0})).message.find("-1"), std::string::npos);
+}
+
+// Analytic supports: the returned point lies on the shape and no sample of
+// the surface beats it.
+TEST(AnalyticSupport, NoSurfaceSampleBeatsTheSupport) {
+  std::mt19937_64 rng(5);
+  const double r = 0.7, h = 1.3, m = 0.2;
+  const std::vector<Shape> shapes = {Sphere{r, m}, Box{{r, h, 0.4}, m}, Capsule{h, r, m}, Cylinder{r, h, m},
+                                     Cone{r, h, m}};
+  // Dense samples of each core's boundary; the margin adds m along d.
+  auto core_samples = [&](const Shape& s) {
+    std::vector<Eigen::Vector3d> p;
+    const int k = 64;
+    for (int i = 0; i < k; ++i) {
+      const double a = 2.0 * M_PI * i / k;
+      const Eigen::Vector3d rim(std::cos(a), std::sin(a), 0.0);
+      for (int j = 0; j <= 4; ++j) {
+        const double z = -1.0 + 0.5 * j;
+        if (std::holds_alternative<Cylinder>(s)) p.push_back(r * rim + Eigen::Vector3d(0, 0, z * h));
+        if (std::holds_alternative<Cone>(s)) p.push_back(0.5 * (1.0 - z) * r * rim + Eigen::Vector3d(0, 0, z * h));
+      }
+    }
+    if (std::holds_alternative<Sphere>(s)) p.push_back(Eigen::Vector3d::Zero());
+    if (std::holds_alternative<Capsule>(s)) p = {Eigen::Vector3d(0, 0, -h), Eigen::Vector3d(0, 0, h)};
+    if (std::holds_alternative<Box>(s))
+      for (int i = 0; i < 8; ++i) p.emplace_back(i & 1 ? r : -r, i & 2 ? h : -h, i & 4 ? 0.4 : -0.4);
+    return p;
+  };
+  for (const Shape& s : shapes) {
+    const double radius = std::holds_alternative<Sphere>(s) || std::holds_alternative<Capsule>(s) ? r + m : m;
+    const auto samples = core_samples(s);
+    for (int i = 0; i < 2000; ++i) {
+      Eigen::Vector3d d = random_unit(rng);
+      if (i % 10 == 0) d = Eigen::Vector3d(0, 0, i % 20 == 0 ? 1.0 : -1.0);  // axis: plateaus
+      const Eigen::Vector3d sp = support(s, d);
+      double best = -INFINITY;
+      for (const auto& q : samples) best = std::max(best, d.dot(q) + radius);
+      EXPECT_GE(d.dot(sp), best - 1e-14) << s.index();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hedra::collision
