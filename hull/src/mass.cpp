@@ -69,7 +69,7 @@ MassProperties mass_properties(const HalfEdgeMesh& mesh, double density) {
   r /= static_cast<double>(mesh.vertices.size());
 
   const std::size_t H = mesh.edges.size();
-  double vol = 0, area = 0, triangle_area = 0;
+  double vol = 0, vol_bound = 0, area = 0, triangle_area = 0;
   Eigen::Vector3d first = Eigen::Vector3d::Zero();
   Eigen::Vector3d area_first = Eigen::Vector3d::Zero();  // sum of triangle area * centroid (relative to r)
   Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
@@ -88,6 +88,7 @@ MassProperties mass_properties(const HalfEdgeMesh& mesh, double density) {
       const Eigen::Vector3d n = (b - a).cross(c - a);
       const double v = a.dot(b.cross(c)) / 6.0;
       vol += v;
+      vol_bound += a.norm() * b.cross(c).norm() / 6.0;
       first += v * s / 4.0;
       second += (v / 20.0) * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
       newell += n;
@@ -100,14 +101,11 @@ MassProperties mass_properties(const HalfEdgeMesh& mesh, double density) {
   }
   m.surface_area = area;
 
-  // Flat: the volume is noise next to area times the mesh's tolerance (or,
-  // without one, times rounding of the mesh's extent measured from r).
-  double extent = 0;
-  for (const auto& v : mesh.vertices) extent = std::max(extent, (v.position - r).cwiseAbs().maxCoeff());
-  const double tol = mesh.tolerance() > 0 && std::isfinite(mesh.tolerance())
-                         ? mesh.tolerance()
-                         : 48.0 * std::numeric_limits<double>::epsilon() * extent;
-  if (mesh.faces.empty() || !(std::abs(vol) > tol * area)) {
+  // Flat: the volume is indistinguishable from rounding. Each term's error
+  // is a few ulps of |a| |b x c| / 6, so a signed sum within 64 eps of the
+  // sum of those bounds is noise (a two-sided polygon cancels to that
+  // level); a genuine solid, however thin, is far above it.
+  if (mesh.faces.empty() || !(std::abs(vol) > 64.0 * std::numeric_limits<double>::epsilon() * vol_bound)) {
     m.status = MassStatus::flat;
     // Triangle fan sums double-count a two-sided polygon, which cancels here.
     // Area centroid of the surface: for a two-sided polygon both sides give

@@ -12,7 +12,7 @@
 // top of mass.cpp.
 //
 // Degenerate meshes: a flat polygon (two back-to-back faces, or any mesh
-// whose volume is within tolerance x area of zero) has zero volume and
+// whose signed volume is within rounding of zero) has zero volume and
 // inertia; its centroid is the area centroid of the polygon and its surface
 // area counts both sides. A segment's centroid is its midpoint, a point's the
 // point; both have zero area. No NaN is ever returned.
