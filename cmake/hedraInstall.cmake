@@ -10,7 +10,7 @@
 # $<BUILD_INTERFACE:...> and never appear in the export.
 include(CMakePackageConfigHelpers)
 
-set(HEDRA_INSTALLED_LIBRARIES hull)
+set(HEDRA_INSTALLED_LIBRARIES hull collision)
 
 set(HEDRA_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/hedra
     CACHE STRING "Where to install hedra's CMake package files, relative to the prefix")

@@ -1,0 +1,619 @@
+// GJK distance and intersection through the embedding API, checked against
+// answers computed without GJK:
+//   * closed forms: sphere-sphere, capsule-capsule (segment-segment distance
+//     as the minimum of a convex quadratic over the unit square), axis-aligned
+//     box-box (per-axis gaps), sphere-box (clamp into the box);
+//   * the exact reference: the distance from the origin to the convex hull of
+//     the Minkowski difference {a_i - b_j}, built by qhull, as the minimum
+//     point-triangle distance over its facets (0 when the origin is inside);
+//   * properties: swapping A and B, moving both rigidly, witness points on
+//     the supporting planes (the optimality condition of the distance),
+//     intersect() agreeing with distance();
+//   * the hard cases of field-notes.md that apply to distance: offsets of
+//     1e6, scale disparity 1e-3 vs 1e3, thin plates and needles, exact
+//     touching, duplicate support points, flat and segment hulls;
+//   * no heap allocation per query (a counting global operator new).
+// Agreement is required within 1e-9 of the shapes' size. Fixed seeds.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <hedra/collision/query.hpp>
+#include <new>
+#include <qhull_reference.hpp>
+#include <random>
+#include <vector>
+
+// ---- allocation counter (GCC cannot see that malloc/free pair up here)
+#if defined(__GNUC__) && !defined(__clang__)
+#  pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+namespace {
+std::atomic<long> g_allocations{0};
+}
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace hedra::collision {
+namespace {
+
+using Vec = Eigen::Vector3d;
+
+std::shared_ptr<const ConvexPolyhedron> make_hull(const std::vector<Vec>& points) {
+  ConvexPolyhedron::BuildResult built = ConvexPolyhedron::build(points);
+  EXPECT_TRUE(built.ok()) << built.message;
+  return built.polyhedron;
+}
+
+Vec random_unit(std::mt19937_64& rng) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  return Vec(g(rng), g(rng), g(rng)).normalized();
+}
+
+Pose random_pose(std::mt19937_64& rng, double spread) {
+  std::uniform_real_distribution<double> u(-spread, spread);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+  return Pose::from_quaternion(q, Vec(u(rng), u(rng), u(rng)));
+}
+
+std::vector<Vec> random_points(std::mt19937_64& rng, int n, const Vec& scale) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Vec> p;
+  for (int i = 0; i < n; ++i) p.push_back(Vec(u(rng), u(rng), u(rng)).cwiseProduct(scale));
+  return p;
+}
+
+// ---- independent references ------------------------------------------------
+
+// Closest point of triangle abc to p: minimum over the interior critical
+// point (if inside) and the three edges (each a clamped 1D projection).
+Vec closest_on_segment(const Vec& p, const Vec& a, const Vec& b) {
+  const Vec ab = b - a;
+  const double len2 = ab.squaredNorm();
+  if (len2 == 0.0) return a;
+  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
+  return a + t * ab;
+}
+
+double point_triangle_distance(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
+  const Vec n = (b - a).cross(c - a);
+  double best = std::min({(closest_on_segment(p, a, b) - p).norm(), (closest_on_segment(p, b, c) - p).norm(),
+                          (closest_on_segment(p, c, a) - p).norm()});
+  const double nn = n.squaredNorm();
+  if (nn > 0.0) {
+    const Vec q = p - (n.dot(p - a) / nn) * n;  // projection on the plane
+    const bool inside =
+        n.dot((b - a).cross(q - a)) >= 0.0 && n.dot((c - b).cross(q - b)) >= 0.0 && n.dot((a - c).cross(q - c)) >= 0.0;
+    if (inside) best = std::min(best, (q - p).norm());
+  }
+  return best;
+}
+
+// Distance from the origin to conv{a_i - b_j} (world points), via qhull.
+double reference_distance(const std::vector<Vec>& a, const std::vector<Vec>& b) {
+  std::vector<Vec> diff;
+  for (const Vec& p : a)
+    for (const Vec& q : b) diff.push_back(p - q);
+  const reference::QhullHull h = reference::qhull_hull(diff, "Qt");
+  EXPECT_TRUE(h.ok) << h.messages;
+  bool outside = false;
+  double best = INFINITY;
+  for (const auto& t : h.triangles) {
+    const Vec& p0 = diff[t[0]];
+    const Vec& p1 = diff[t[1]];
+    const Vec& p2 = diff[t[2]];
+    const Vec n = (p1 - p0).cross(p2 - p0);
+    if (n.dot(-p0) > 0.0) outside = true;  // the origin is in front of this facet
+    best = std::min(best, point_triangle_distance(Vec::Zero(), p0, p1, p2));
+  }
+  return outside ? best : 0.0;
+}
+
+// Segment-segment distance: the minimum of the convex quadratic
+// |p0 + s u - q0 - t v|^2 over [0,1]^2 is at the interior stationary point
+// if that lies inside, otherwise on the boundary (four point-segment cases).
+double segment_distance(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& q1) {
+  const Vec u = p1 - p0, v = q1 - q0, w = p0 - q0;
+  double best = std::min({(closest_on_segment(p0, q0, q1) - p0).norm(), (closest_on_segment(p1, q0, q1) - p1).norm(),
+                          (closest_on_segment(q0, p0, p1) - q0).norm(), (closest_on_segment(q1, p0, p1) - q1).norm()});
+  const double a = u.dot(u), b = u.dot(v), c = v.dot(v), d = u.dot(w), e = v.dot(w);
+  const double den = a * c - b * b;
+  if (den > 1e-12 * a * c) {
+    const double s = (b * e - c * d) / den, t = (a * e - b * d) / den;
+    if (s >= 0 && s <= 1 && t >= 0 && t <= 1) best = std::min(best, (w + s * u - t * v).norm());
+  }
+  return best;
+}
+
+std::vector<Vec> world_vertices(const ConvexPolyhedron& poly, const Pose& pose) {
+  std::vector<Vec> out;
+  for (const Vec& v : poly.vertices()) out.push_back(pose.apply(poly.offset() + v));
+  return out;
+}
+
+// Support value of a posed shape: max over the shape of n . x (world).
+double support_value(const Shape& s, const Pose& pose, const Vec& n) {
+  return n.dot(pose.apply(support(s, pose.rotation.transpose() * n)));
+}
+
+// The optimality conditions of a distance answer: unit normal, witness
+// points on the supporting planes of both shapes orthogonal to the normal,
+// and point_b - point_a = distance * normal.
+void expect_optimal(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, const DistanceResult& r,
+                    double tol) {
+  ASSERT_EQ(r.status, Status::ok);
+  ASSERT_FALSE(r.intersecting);
+  EXPECT_NEAR(r.normal.norm(), 1.0, 1e-12);
+  EXPECT_NEAR(r.normal.dot(r.point_a), support_value(a, pa, r.normal), tol);
+  EXPECT_NEAR(-r.normal.dot(r.point_b), support_value(b, pb, -r.normal), tol);
+  EXPECT_LT((r.point_b - r.point_a - r.distance * r.normal).norm(), tol);
+}
+
+// ---- closed forms -------------------------------------------------------------
+
+TEST(GjkDistance, SphereSphereClosedForm) {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> radius(0.01, 2.0);
+  int separated = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Sphere a{radius(rng), i % 3 == 0 ? 0.1 : 0.0}, b{radius(rng), 0.0};
+    const Pose pa = random_pose(rng, 3.0), pb = random_pose(rng, 3.0);
+    const Vec delta = pb.translation - pa.translation;
+    const double expected = delta.norm() - core_radius(a) - core_radius(b);
+    const DistanceResult r = distance(a, pa, b, pb);
+    ASSERT_EQ(r.status, Status::ok);
+    const double size = std::max(core_radius(a), core_radius(b));
+    if (expected > 1e-9 * size) {
+      ++separated;
+      ASSERT_FALSE(r.intersecting);
+      EXPECT_NEAR(r.distance, expected, 1e-9 * size);
+      EXPECT_LT((r.normal - delta.normalized()).norm(), 1e-12);
+      EXPECT_LT((r.point_a - (pa.translation + core_radius(a) * delta.normalized())).norm(), 1e-9 * size);
+      EXPECT_EQ(r.iterations, 1);  // two points: the first support is the answer
+    } else if (expected < -1e-9 * size) {
+      EXPECT_TRUE(r.intersecting);
+      EXPECT_EQ(r.distance, 0.0);
+    }
+  }
+  EXPECT_GT(separated, 200);
+  EXPECT_LT(separated, 1900);
+}
+
+TEST(GjkDistance, CapsuleCapsuleClosedForm) {
+  std::mt19937_64 rng(2);
+  std::uniform_real_distribution<double> len(0.0, 2.0), rad(0.01, 0.5);
+  int separated = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Capsule a{len(rng), rad(rng), 0.0}, b{len(rng), rad(rng), i % 4 == 0 ? 0.05 : 0.0};
+    Pose pa = random_pose(rng, 1.5), pb = random_pose(rng, 1.5);
+    if (i % 10 == 0) pb.rotation = pa.rotation;  // parallel segments
+    const Vec za = pa.rotation.col(2), zb = pb.rotation.col(2);
+    const double core = segment_distance(pa.translation - a.half_length * za, pa.translation + a.half_length * za,
+                                         pb.translation - b.half_length * zb, pb.translation + b.half_length * zb);
+    const double expected = core - core_radius(a) - core_radius(b);
+    const double size = std::max(bounding_radius(a), bounding_radius(b));
+    const DistanceResult r = distance(a, pa, b, pb);
+    ASSERT_EQ(r.status, Status::ok);
+    if (expected > 1e-9 * size) {
+      ++separated;
+      ASSERT_FALSE(r.intersecting) << i;
+      EXPECT_NEAR(r.distance, expected, 1e-9 * size) << i;
+      expect_optimal(a, pa, b, pb, r, 1e-9 * size);
+    } else if (expected < -1e-9 * size) {
+      EXPECT_TRUE(r.intersecting) << i;
+    }
+  }
+  EXPECT_GT(separated, 200);
+  EXPECT_LT(separated, 1900);
+}
+
+double box_box_distance(const Vec& ca, const Vec& ha, const Vec& cb, const Vec& hb) {
+  return ((cb - ca).cwiseAbs() - ha - hb).cwiseMax(0.0).norm();
+}
+
+TEST(GjkDistance, AxisAlignedBoxBoxClosedForm) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> ext(0.05, 1.5);
+  int separated = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Box a{{ext(rng), ext(rng), ext(rng)}, 0.0}, b{{ext(rng), ext(rng), ext(rng)}, 0.0};
+    // A common rotation: the boxes stay aligned with each other.
+    Pose pa = random_pose(rng, 3.0), pb = random_pose(rng, 3.0);
+    pb.rotation = pa.rotation;
+    const Vec local = pa.rotation.transpose() * (pb.translation - pa.translation);
+    const double expected = box_box_distance(Vec::Zero(), a.half_extents, local, b.half_extents);
+    const double size = std::max(bounding_radius(a), bounding_radius(b));
+    const DistanceResult r = distance(a, pa, b, pb);
+    ASSERT_EQ(r.status, Status::ok);
+    if (expected > 1e-9 * size) {
+      ++separated;
+      ASSERT_FALSE(r.intersecting);
+      EXPECT_NEAR(r.distance, expected, 1e-9 * size);
+      expect_optimal(a, pa, b, pb, r, 1e-9 * size);
+      EXPECT_GE(r.error_bound, 0.0);
+    } else {
+      EXPECT_TRUE(r.intersecting || r.distance <= 1e-9 * size);
+    }
+  }
+  EXPECT_GT(separated, 200);
+  EXPECT_LT(separated, 1900);
+}
+
+TEST(GjkDistance, SphereBoxClosedForm) {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> ext(0.05, 1.5);
+  int separated = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Box box{{ext(rng), ext(rng), ext(rng)}, i % 5 == 0 ? 0.1 : 0.0};
+    const Sphere ball{ext(rng), 0.0};
+    const Pose pb = random_pose(rng, 3.0), ps = random_pose(rng, 3.0);
+    const Vec c = pb.rotation.transpose() * (ps.translation - pb.translation);
+    const Vec clamped = c.cwiseMax(-box.half_extents).cwiseMin(box.half_extents);
+    const double expected = (c - clamped).norm() - ball.radius - box.margin;
+    const double size = std::max(bounding_radius(box), ball.radius);
+    const DistanceResult r = distance(box, pb, ball, ps);
+    ASSERT_EQ(r.status, Status::ok);
+    if (expected > 1e-9 * size) {
+      ++separated;
+      ASSERT_FALSE(r.intersecting);
+      EXPECT_NEAR(r.distance, expected, 1e-9 * size);
+      expect_optimal(box, pb, ball, ps, r, 1e-9 * size);
+    } else if (expected < -1e-9 * size) {
+      EXPECT_TRUE(r.intersecting);
+    }
+  }
+  EXPECT_GT(separated, 200);
+  EXPECT_LT(separated, 1900);
+}
+
+// ---- the exact reference: qhull on the Minkowski difference --------------
+
+TEST(GjkDistance, RandomPolytopePairsMatchMinkowskiHullReference) {
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<int> count(4, 64);
+  std::uniform_real_distribution<double> ext(0.2, 2.0);
+  int separated = 0, overlapping = 0;
+  double worst = 0.0;
+  for (int i = 0; i < 400; ++i) {
+    const auto ha = make_hull(random_points(rng, count(rng), {ext(rng), ext(rng), ext(rng)}));
+    const auto hb = make_hull(random_points(rng, count(rng), {ext(rng), ext(rng), ext(rng)}));
+    const Polyhedron a{ha, 0.0}, b{hb, 0.0};
+    const Pose pa = random_pose(rng, 2.5), pb = random_pose(rng, 2.5);
+    const double expected = reference_distance(world_vertices(*ha, pa), world_vertices(*hb, pb));
+    const double size = std::max(ha->bounding_radius(), hb->bounding_radius());
+    const DistanceResult r = distance(a, pa, b, pb);
+    ASSERT_EQ(r.status, Status::ok);
+    if (expected > 1e-9 * size) {
+      ++separated;
+      ASSERT_FALSE(r.intersecting) << i;
+      EXPECT_NEAR(r.distance, expected, 1e-9 * size) << i;
+      // The certified bound holds: true distance >= distance - error_bound.
+      EXPECT_GE(expected, r.distance - r.error_bound - 1e-12 * size);
+      worst = std::max(worst, std::abs(r.distance - expected) / size);
+      expect_optimal(a, pa, b, pb, r, 1e-9 * size);
+    } else if (expected == 0.0) {
+      ++overlapping;
+      EXPECT_TRUE(r.intersecting || r.distance <= 1e-9 * size) << i;
+    }
+  }
+  EXPECT_GT(separated, 50);
+  EXPECT_GT(overlapping, 50);
+  RecordProperty("worst_relative_error", std::to_string(worst));
+}
+
+// ---- properties -------------------------------------------------------------
+
+std::vector<Shape> shape_zoo(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> ext(0.1, 1.0);
+  return {Sphere{ext(rng), 0.0},
+          Box{{ext(rng), ext(rng), ext(rng)}, 0.0},
+          Box{{ext(rng), ext(rng), ext(rng)}, 0.05},
+          Capsule{ext(rng), ext(rng), 0.0},
+          Cylinder{ext(rng), ext(rng), 0.0},
+          Cone{ext(rng), ext(rng), 0.0},
+          Polyhedron{make_hull(random_points(rng, 30, {ext(rng), ext(rng), ext(rng)})), 0.0},
+          Polyhedron{make_hull(random_points(rng, 200, {1.0, 0.5, 0.7})), 0.02}};
+}
+
+TEST(GjkDistance, SwapRigidMotionAndIntersectAgree) {
+  std::mt19937_64 rng(6);
+  const std::vector<Shape> zoo = shape_zoo(rng);
+  int separated = 0, overlapping = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Shape& a = zoo[i % zoo.size()];
+    const Shape& b = zoo[(i / zoo.size()) % zoo.size()];
+    const Pose pa = random_pose(rng, 1.5), pb = random_pose(rng, 1.5);
+    const double size = std::max(bounding_radius(a), bounding_radius(b));
+    const DistanceResult r = distance(a, pa, b, pb);
+    ASSERT_EQ(r.status, Status::ok) << i;
+    ASSERT_TRUE(std::isfinite(r.distance) && r.normal.allFinite() && r.point_a.allFinite());
+    const IntersectResult hit = intersect(a, pa, b, pb);
+    ASSERT_EQ(hit.status, Status::ok);
+    // Curved shapes converge to the tolerance only: leave a band for them.
+    if (r.distance > 1e-6 * size || r.intersecting) {
+      EXPECT_EQ(hit.intersecting, r.intersecting) << i;
+    }
+    if (r.intersecting) {
+      ++overlapping;
+      continue;
+    }
+    ++separated;
+    expect_optimal(a, pa, b, pb, r, 1e-6 * size);
+    // Cylinders and cones are curved: GJK converges on them to the distance
+    // tolerance (1e-10 relative), and the normal's angle then only to about
+    // its square root. Polytope cores (points, segments, boxes, hulls)
+    // terminate exactly, so their unique normals must agree to 1e-6.
+    const auto curved = [](const Shape& s) {
+      return std::holds_alternative<Cylinder>(s) || std::holds_alternative<Cone>(s);
+    };
+    const double normal_tolerance = curved(a) || curved(b) ? 1e-4 : 1e-6;
+    const DistanceResult swapped = distance(b, pb, a, pa);
+    EXPECT_NEAR(swapped.distance, r.distance, 1e-9 * size);
+    EXPECT_LT((swapped.normal + r.normal).norm(), normal_tolerance) << a.index() << " " << b.index();
+    const Pose motion = random_pose(rng, 10.0);
+    const Pose ma{motion.rotation * pa.rotation, motion.apply(pa.translation)};
+    const Pose mb{motion.rotation * pb.rotation, motion.apply(pb.translation)};
+    const DistanceResult moved = distance(a, ma, b, mb);
+    EXPECT_NEAR(moved.distance, r.distance, 1e-9 * size);
+    EXPECT_LT((moved.normal - motion.rotation * r.normal).norm(), normal_tolerance);
+    // Moving B by -distance * normal brings the pair to touching.
+    const Pose touching{pb.rotation, pb.translation - r.distance * r.normal};
+    EXPECT_LT(distance(a, pa, b, touching).distance, 1e-6 * size);
+  }
+  EXPECT_GT(separated, 500);
+  EXPECT_GT(overlapping, 500);
+}
+
+TEST(GjkDistance, WarmStartFromCacheGivesTheSameAnswer) {
+  std::mt19937_64 rng(7);
+  const auto big = make_hull(random_points(rng, 5000, {1.0, 1.0, 1.0}));
+  const Polyhedron a{big, 0.0}, b{big, 0.0};
+  GjkCache cache;
+  Pose pa = Pose::identity();
+  int cold_iterations = 0, warm_iterations = 0;
+  for (int step = 0; step < 200; ++step) {
+    const double angle = 0.01 * step;
+    const Pose pb = Pose::from_quaternion(Eigen::Quaterniond(Eigen::AngleAxisd(angle, Vec::UnitZ())),
+                                          Vec(3.0 + std::cos(angle), std::sin(angle), 0.2));
+    const DistanceResult cold = distance(a, pa, b, pb);
+    const DistanceResult warm = distance(a, pa, b, pb, &cache);
+    ASSERT_EQ(warm.status, Status::ok);
+    EXPECT_NEAR(warm.distance, cold.distance, 1e-9);
+    cold_iterations += cold.iterations;
+    warm_iterations += warm.iterations;
+  }
+  EXPECT_TRUE(cache.valid);
+  EXPECT_LT(warm_iterations, cold_iterations);
+}
+
+// ---- hard cases ------------------------------------------------------------
+
+TEST(GjkHardCases, OffsetsOfOneMillion) {
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> ext(0.05, 1.5);
+  for (int i = 0; i < 500; ++i) {
+    const Box a{{ext(rng), ext(rng), ext(rng)}, 0.0}, b{{ext(rng), ext(rng), ext(rng)}, 0.0};
+    Pose pa = random_pose(rng, 3.0), pb = random_pose(rng, 3.0);
+    pb.rotation = pa.rotation;
+    const Vec local = pa.rotation.transpose() * (pb.translation - pa.translation);
+    const double expected = box_box_distance(Vec::Zero(), a.half_extents, local, b.half_extents);
+    const Vec far = Vec(1e6, -1e6, 1e6) * (i % 2 ? 1.0 : -1.0);
+    // The offset is added after the relative placement, so that the pair
+    // itself is exactly the same: only the world coordinates grow.
+    const Pose fa{pa.rotation, far}, fb{pb.rotation, far + (pb.translation - pa.translation)};
+    const double moved = box_box_distance(Vec::Zero(), a.half_extents,
+                                          pa.rotation.transpose() * (fb.translation - fa.translation), b.half_extents);
+    const DistanceResult r = distance(a, fa, b, fb);
+    ASSERT_EQ(r.status, Status::ok);
+    const double size = std::max(bounding_radius(a), bounding_radius(b));
+    if (moved > 1e-9 * size) {
+      EXPECT_NEAR(r.distance, moved, 1e-9 * size) << i;
+      EXPECT_NEAR(moved, expected, 1e-9);  // the subtraction of 1e6 offsets was exact enough
+    }
+  }
+  // Polyhedra built from points far away are recentred: same answer as near.
+  const std::vector<Vec> near_points = random_points(rng, 40, {1.0, 0.5, 0.3});
+  std::vector<Vec> far_points;
+  for (const Vec& v : near_points) far_points.push_back(v + Vec(1e6, 2e6, -3e6));
+  const auto near_hull = make_hull(near_points), far_hull = make_hull(far_points);
+  const DistanceResult near_r =
+      distance(Polyhedron{near_hull, 0.0}, Pose::identity(), Sphere{0.1, 0.0}, Pose::from_translation({2, 1, 0}));
+  const DistanceResult far_r = distance(Polyhedron{far_hull, 0.0}, Pose::from_translation(Vec(-1e6, -2e6, 3e6)),
+                                        Sphere{0.1, 0.0}, Pose::from_translation({2, 1, 0}));
+  EXPECT_NEAR(far_r.distance, near_r.distance, 1e-9);
+}
+
+TEST(GjkHardCases, ScaleDisparityAndThinShapes) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  struct Pair {
+    Vec ha, hb;
+  };
+  const std::vector<Pair> pairs = {
+      {{1e-3, 1e-3, 1e-3}, {1e3, 1e3, 1e3}},  // a grain next to a building
+      {{1e3, 1e3, 1e-1}, {1e-3, 1e-3, 1e-3}},
+      {{1.0, 1.0, 1e-4}, {1.0, 1.0, 1e-4}},    // thin plates (aspect 1e4)
+      {{1e-4, 1e-4, 1.0}, {1e-4, 1e-4, 1.0}},  // needles
+  };
+  for (const Pair& p : pairs) {
+    const Box a{p.ha, 0.0}, b{p.hb, 0.0};
+    const double size = std::max(p.ha.norm(), p.hb.norm());
+    const double small = std::min(p.ha.minCoeff(), p.hb.minCoeff());
+    int separated = 0;
+    for (int i = 0; i < 400; ++i) {
+      // Gaps of the order of the smaller shape, in a common rotated frame.
+      const Eigen::Matrix3d rot = Eigen::Quaterniond::UnitRandom().toRotationMatrix();
+      // B just beyond one face of A (gap up to 5x the smaller size), anywhere
+      // along the other two axes: face, edge and corner regions.
+      Vec local = 1.2 * (p.ha + p.hb).cwiseProduct(Vec(u(rng), u(rng), u(rng)));
+      const int k = i % 3;
+      local[k] = (u(rng) < 0 ? -1.0 : 1.0) * (p.ha[k] + p.hb[k] + 2.5 * small * (1.0 + u(rng)));
+      const Pose pa{rot, Vec(u(rng), u(rng), u(rng))};
+      const Pose pb{rot, pa.translation + rot * local};
+      const double expected = box_box_distance(Vec::Zero(), p.ha, local, p.hb);
+      const DistanceResult r = distance(a, pa, b, pb);
+      ASSERT_EQ(r.status, Status::ok);
+      if (expected > 1e-9 * size) {
+        ++separated;
+        EXPECT_NEAR(r.distance, expected, 1e-9 * size) << p.ha.transpose() << " / " << p.hb.transpose();
+        EXPECT_NEAR(r.normal.norm(), 1.0, 1e-12);
+      }
+    }
+    EXPECT_GT(separated, 20);
+  }
+  // A 1e-3 sphere near a 1e3 box face: distance and normal exact.
+  const DistanceResult r = distance(Box{{1e3, 1e3, 1e3}, 0.0}, Pose::identity(), Sphere{1e-3, 0.0},
+                                    Pose::from_translation({10.0, -20.0, 1e3 + 3e-3}));
+  EXPECT_NEAR(r.distance, 2e-3, 1e-9 * 1e-3 * 1e3);
+  EXPECT_LT((r.normal - Vec::UnitZ()).norm(), 1e-9);  // rounding of 1e3 coordinates / 3e-3
+}
+
+TEST(GjkHardCases, ExactTouchingFaceEdgeVertex) {
+  const Box unit{{0.5, 0.5, 0.5}, 0.0};
+  // Face, edge and vertex contact of two axis-aligned unit cubes.
+  for (const Vec& t : {Vec(1.0, 0.0, 0.0), Vec(1.0, 1.0, 0.0), Vec(1.0, 1.0, 1.0), Vec(1.0, 0.3, -0.2)}) {
+    const DistanceResult r = distance(unit, Pose::identity(), unit, Pose::from_translation(t));
+    ASSERT_EQ(r.status, Status::ok) << t.transpose();
+    EXPECT_LE(r.distance, 1e-12) << t.transpose();
+    EXPECT_TRUE(std::isfinite(r.distance) && r.normal.allFinite());
+    const IntersectResult hit = intersect(unit, Pose::identity(), unit, Pose::from_translation(t));
+    EXPECT_EQ(hit.status, Status::ok);
+  }
+  // Touching spheres and capsules: exactly zero.
+  const DistanceResult s =
+      distance(Sphere{1.0, 0.0}, Pose::identity(), Sphere{2.0, 0.0}, Pose::from_translation({3, 0, 0}));
+  EXPECT_TRUE(s.intersecting);
+  EXPECT_EQ(s.distance, 0.0);
+  // Rotated cube touching a face at a vertex (tilted 45 degrees about two axes).
+  const Pose tilted =
+      Pose::from_quaternion(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 4, Vec::UnitZ())) *
+                                Eigen::Quaterniond(Eigen::AngleAxisd(std::atan(M_SQRT1_2), Vec::UnitX())),
+                            Vec::Zero());
+  const double reach = support_value(unit, tilted, Vec::UnitZ());
+  const DistanceResult v = distance(unit, tilted, unit, Pose::from_translation({0.0, 0.0, reach + 0.5}));
+  EXPECT_LE(v.distance, 1e-12);
+}
+
+TEST(GjkHardCases, DuplicateSupportPointsAndDegenerateHulls) {
+  std::mt19937_64 rng(10);
+  // Every input point given three times: same hull, same distance, few iterations.
+  std::vector<Vec> points = random_points(rng, 20, {1.0, 1.0, 1.0});
+  std::vector<Vec> tripled;
+  for (int k = 0; k < 3; ++k) tripled.insert(tripled.end(), points.begin(), points.end());
+  const auto h = make_hull(tripled);
+  const DistanceResult r = distance(Polyhedron{h, 0.0}, Pose::identity(), Box{{0.5, 0.5, 0.5}, 0.0},
+                                    Pose::from_translation({4.0, 0.0, 0.0}));
+  ASSERT_EQ(r.status, Status::ok);
+  EXPECT_LT(r.iterations, 20);
+  std::vector<Vec> box_points;
+  for (int i = 0; i < 8; ++i) box_points.emplace_back(i & 1 ? 4.5 : 3.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5);
+  EXPECT_NEAR(r.distance, reference_distance(world_vertices(*h, Pose::identity()), box_points), 1e-9);
+
+  // Segment hull vs segment hull: the segment-segment closed form.
+  for (int i = 0; i < 200; ++i) {
+    const Vec p0 = 2.0 * random_unit(rng), p1 = 2.0 * random_unit(rng);
+    const Vec q0 = 2.0 * random_unit(rng) + Vec(3, 0, 0), q1 = 2.0 * random_unit(rng) + Vec(3, 0, 0);
+    const auto sa = make_hull({p0, p1}), sb = make_hull({q0, q1});
+    ASSERT_EQ(sa->dimension(), 1);
+    const DistanceResult d = distance(Polyhedron{sa, 0.0}, Pose::identity(), Polyhedron{sb, 0.0}, Pose::identity());
+    ASSERT_EQ(d.status, Status::ok);
+    const double expected = segment_distance(p0, p1, q0, q1);
+    if (expected > 1e-9) {
+      EXPECT_NEAR(d.distance, expected, 1e-9 * 4.0) << i;
+    } else {
+      EXPECT_LE(d.distance, 1e-9 * 4.0);
+    }
+  }
+
+  // Flat polygons (two back-to-back faces) vs a box: the qhull reference.
+  int checked = 0;
+  for (int i = 0; i < 100; ++i) {
+    const Vec e1 = random_unit(rng), e2 = e1.unitOrthogonal();
+    std::vector<Vec> flat;
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int k = 0; k < 30; ++k) flat.push_back(u(rng) * e1 + u(rng) * e2);
+    const auto fh = make_hull(flat);
+    ASSERT_EQ(fh->dimension(), 2);
+    const Box box{{0.3, 0.4, 0.5}, 0.0};
+    const Pose pb = random_pose(rng, 1.5);
+    std::vector<Vec> corners;
+    for (int k = 0; k < 8; ++k)
+      corners.push_back(pb.apply(Vec(k & 1 ? 0.3 : -0.3, k & 2 ? 0.4 : -0.4, k & 4 ? 0.5 : -0.5)));
+    const double expected = reference_distance(world_vertices(*fh, Pose::identity()), corners);
+    const DistanceResult d = distance(Polyhedron{fh, 0.0}, Pose::identity(), box, pb);
+    ASSERT_EQ(d.status, Status::ok);
+    if (expected > 1e-9) {
+      ++checked;
+      EXPECT_NEAR(d.distance, expected, 1e-9 * 1.5) << i;
+    }
+  }
+  EXPECT_GT(checked, 20);
+}
+
+TEST(GjkStatus, CapInvalidInputAndNoNan) {
+  GjkSettings capped;
+  capped.max_iterations = 1;
+  std::mt19937_64 rng(12);
+  const auto h = make_hull(random_points(rng, 64, {1.0, 1.0, 1.0}));
+  const DistanceResult r = distance(Polyhedron{h, 0.0}, random_pose(rng, 0.1), Cylinder{0.5, 0.5, 0.0},
+                                    Pose::from_translation({3.0, 0.4, 0.2}), nullptr, capped);
+  EXPECT_EQ(r.status, Status::max_iterations);  // never reported as separated/ok
+  EXPECT_TRUE(std::isfinite(r.distance) && r.normal.allFinite());
+
+  Pose nan_pose = Pose::identity();
+  nan_pose.translation.x() = std::nan("");
+  EXPECT_EQ(distance(Sphere{1.0, 0.0}, nan_pose, Sphere{1.0, 0.0}, Pose::identity()).status, Status::invalid_input);
+  EXPECT_EQ(intersect(Sphere{-1.0, 0.0}, Pose::identity(), Sphere{1.0, 0.0}, Pose::identity()).status,
+            Status::invalid_input);
+  // Coincident centres (fcl#346): terminates at once, intersecting.
+  const DistanceResult same = distance(Sphere{1.0, 0.0}, Pose::identity(), Sphere{1.0, 0.0}, Pose::identity());
+  EXPECT_EQ(same.status, Status::ok);
+  EXPECT_TRUE(same.intersecting);
+  const DistanceResult cubes =
+      distance(Box{{1, 1, 1}, 0.0}, Pose::identity(), Box{{1, 1, 1}, 0.0}, Pose::from_translation({1.9, 0, 0}));
+  EXPECT_TRUE(cubes.intersecting);  // libccd#25: two 2 m cubes overlapping by 0.1
+  EXPECT_EQ(cubes.status, Status::ok);
+}
+
+TEST(GjkAllocation, NoHeapAllocationPerQuery) {
+  std::mt19937_64 rng(13);
+  const std::vector<Shape> zoo = shape_zoo(rng);
+  std::vector<Pose> poses;
+  for (int i = 0; i < 64; ++i) poses.push_back(random_pose(rng, 1.5));
+  GjkCache cache;
+  double sink = 0.0;
+  const long before = g_allocations.load();
+  for (std::size_t i = 0; i < zoo.size(); ++i)
+    for (std::size_t j = 0; j < zoo.size(); ++j)
+      for (int k = 0; k < 8; ++k) {
+        const Pose& pa = poses[(i * 8 + k) % poses.size()];
+        const Pose& pb = poses[(j * 5 + k + 1) % poses.size()];
+        sink += distance(zoo[i], pa, zoo[j], pb, &cache).distance;
+        sink += intersect(zoo[i], pa, zoo[j], pb).intersecting ? 1.0 : 0.0;
+      }
+  const long after = g_allocations.load();
+  EXPECT_EQ(after - before, 0);
+  EXPECT_TRUE(std::isfinite(sink));
+  // The counter does count: building a hull allocates.
+  make_hull(random_points(rng, 10, {1, 1, 1}));
+  EXPECT_GT(g_allocations.load(), after);
+}
+
+}  // namespace
+}  // namespace hedra::collision
