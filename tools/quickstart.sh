@@ -26,7 +26,11 @@ packages=(
 say() { printf '==> %s\n' "$*"; }
 
 is_installed() {
-  dpkg -s "$1" 2>/dev/null | grep -qx 'Status: install ok installed'
+  # Captured rather than piped: with pipefail, grep -q exiting early could
+  # fail the pipeline.
+  local status
+  status=$(dpkg -s "$1" 2>/dev/null) || return 1
+  grep -qx 'Status: install ok installed' <<<"$status"
 }
 
 if command -v dpkg >/dev/null 2>&1; then
