@@ -144,23 +144,28 @@ ConvexPolyhedron::BuildResult ConvexPolyhedron::build(const std::vector<Eigen::V
   hull::HalfEdgeMesh& mesh = poly->mesh_;
   const std::size_t n = mesh.vertex_count();
 
-  // Centroid: of the solid or of the polygon's area; a point or a segment has
-  // no area, so its vertex average stands in.
+  // Recentring moves positions and plane offsets together
+  // (n.(x - c) = d - n.c), which keeps every mesh invariant.
+  auto shift = [&mesh](const Eigen::Vector3d& c) {
+    for (hull::Vertex& v : mesh.vertices) v.position -= c;
+    for (hull::Face& f : mesh.faces) f.plane.offset -= f.plane.normal.dot(c);
+  };
+  // First on the vertex average, so that the centroid integrals below run on
+  // coordinates of the hull's own size (input far from the origin would
+  // otherwise cost the centroid the digits of its distance); then on the
+  // centroid: of the solid, or of the polygon's area. A point or a segment
+  // has no area and keeps the vertex average.
+  Eigen::Vector3d average = Eigen::Vector3d::Zero();
+  for (const hull::Vertex& v : mesh.vertices) average += v.position;
+  average /= static_cast<double>(n);
+  shift(average);
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   if (mesh.dimension() >= 2) {
-    const hull::MassProperties mass = hull::mass_properties(mesh);
-    centre = mass.centroid;
+    const Eigen::Vector3d c = hull::mass_properties(mesh).centroid;
+    if (c.allFinite()) centre = c;
   }
-  if (mesh.dimension() < 2 || !centre.allFinite()) {
-    centre.setZero();
-    for (const hull::Vertex& v : mesh.vertices) centre += v.position;
-    centre /= static_cast<double>(n);
-  }
-  poly->offset_ = centre;
-
-  // Recentre: positions and plane offsets move together (n.(x - c) = d - n.c).
-  for (hull::Vertex& v : mesh.vertices) v.position -= centre;
-  for (hull::Face& f : mesh.faces) f.plane.offset -= f.plane.normal.dot(centre);
+  shift(centre);
+  poly->offset_ = average + centre;
 
   poly->vertices_.reserve(n);
   poly->neighbor_offsets_.assign(n + 1, 0);
