@@ -58,6 +58,15 @@ bool structure_ok(const HalfEdgeMesh& mesh) {
   return true;
 }
 
+// Products of coordinates near the overflow limit (|x| ~ 1e100 and up) can
+// overflow; such results are reported as invalid rather than as inf or NaN.
+MassProperties finite_or_invalid(const MassProperties& m) {
+  if (std::isfinite(m.volume) && std::isfinite(m.mass) && std::isfinite(m.surface_area) && m.centroid.allFinite() &&
+      m.inertia.allFinite())
+    return m;
+  return MassProperties{};
+}
+
 }  // namespace
 
 MassProperties mass_properties(const HalfEdgeMesh& mesh, double density) {
@@ -112,7 +121,7 @@ MassProperties mass_properties(const HalfEdgeMesh& mesh, double density) {
     // the same weights, so it is the polygon's own area centroid. Without
     // area (segment, point) it is the vertex average.
     m.centroid = triangle_area > 0 ? Eigen::Vector3d(r + area_first / triangle_area) : r;
-    return m;
+    return finite_or_invalid(m);
   }
   const Eigen::Vector3d g = first / vol;
   const Eigen::Matrix3d c = second - vol * g * g.transpose();
@@ -121,7 +130,7 @@ MassProperties mass_properties(const HalfEdgeMesh& mesh, double density) {
   m.mass = density * vol;
   m.centroid = r + g;
   m.inertia = density * (c.trace() * Eigen::Matrix3d::Identity() - c);
-  return m;
+  return finite_or_invalid(m);
 }
 
 double volume(const HalfEdgeMesh& mesh) { return mass_properties(mesh).volume; }

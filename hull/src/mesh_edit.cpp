@@ -279,6 +279,10 @@ CutResult cut_by_plane(HalfEdgeMesh& mesh, const Plane& plane_in) {
   bool any_front = false, any_behind = false;
   for (Index v = 0; v < V; ++v) {
     dist[v] = plane.signed_distance(mesh.vertices[v].position);
+    if (!std::isfinite(dist[v])) {  // coordinates near the overflow limit
+      result.status = CutStatus::invalid_mesh;
+      return result;
+    }
     side[v] = classify(dist[v], tol);
     any_front |= side[v] == Side::front;
     any_behind |= side[v] == Side::behind;
@@ -309,6 +313,10 @@ CutResult cut_by_plane(HalfEdgeMesh& mesh, const Plane& plane_in) {
     const Index bv = side[a] == Side::behind ? a : b, fv = side[a] == Side::behind ? b : a;
     const Index id = static_cast<Index>(V + crossings.size());
     crossings.push_back(crossing_point(mesh.position(bv), dist[bv], mesh.position(fv), dist[fv]));
+    if (!crossings.back().allFinite()) {  // f - b overflowed
+      result.status = CutStatus::invalid_mesh;
+      return result;
+    }
     crossing_of[h] = id;
     crossing_of[mesh.edges[h].twin] = id;
   }
@@ -510,6 +518,11 @@ ClipResult clip_polygon(const Eigen::Vector3d* points, std::size_t count, const 
   }
   const double tol = tolerance > 0 && std::isfinite(tolerance) ? tolerance : extent_tolerance(extent);
   auto emit = [&](const Eigen::Vector3d& p) {
+    if (!p.allFinite()) {  // a crossing of points near the overflow limit
+      result.status = ClipStatus::invalid_input;
+      result.count = 0;
+      return false;
+    }
     if (result.count == capacity) {
       result.status = ClipStatus::capacity_exceeded;
       return false;

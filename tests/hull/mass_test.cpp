@@ -228,6 +228,11 @@ TEST(Mass, InvalidInputGivesZerosNotNaN) {
   EXPECT_EQ(p.status, MassStatus::invalid_input);
   EXPECT_TRUE(p.inertia.allFinite());
   EXPECT_TRUE(p.centroid.allFinite());
+  // Coordinates whose cubes overflow: reported, not inf or NaN.
+  p = mass_properties(test::make_box(Vector3d::Constant(-1e120), Vector3d::Constant(1e120)));
+  EXPECT_EQ(p.status, MassStatus::invalid_input);
+  EXPECT_TRUE(p.inertia.allFinite());
+  EXPECT_EQ(p.volume, 0.0);
   // Zero density is valid: geometry without mass.
   p = mass_properties(test::unit_cube(), 0.0);
   EXPECT_EQ(p.status, MassStatus::ok);

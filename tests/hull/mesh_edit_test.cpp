@@ -384,6 +384,41 @@ TEST(CutByPlane, RejectsBadPlanesAndMeshes) {
   HalfEdgeMesh nan = test::unit_cube();
   nan.vertices[3].position.x() = std::nan("");
   EXPECT_EQ(cut_by_plane(nan, make_plane({0, 0, 1}, 0.5)).status, CutStatus::invalid_mesh);
+  // Edge vectors that overflow: no infinite or NaN vertex comes out.
+  const double big = std::numeric_limits<double>::max() / 1.5;  // 2 big overflows
+  HalfEdgeMesh huge = test::make_box(Vector3d::Constant(-big), Vector3d::Constant(big));
+  const auto huge_before = huge.polygons();
+  EXPECT_EQ(cut_by_plane(huge, make_plane({1, 0, 0}, 0.0)).status, CutStatus::invalid_mesh);
+  EXPECT_EQ(huge.polygons(), huge_before);
+  const Vector3d seg[2] = {{-big, 0, 0}, {big, 1, 0}};
+  Vector3d out[3];
+  const ClipResult c = clip_polygon(seg, 2, make_plane({1, 0, 0}, 0.0), out, 3);
+  EXPECT_EQ(c.status, ClipStatus::invalid_input);
+  EXPECT_EQ(c.count, 0u);
+}
+
+TEST(CutByPlane, NonConvexInputFailsAndLeavesTheMeshAlone) {
+  // A cube with a pyramid dent in its top (not convex: validate() says so).
+  // The plane z = 0.75 crosses it in two loops, round the sides and round
+  // the dent, which no single cap can close: the cut reports it instead of
+  // building a broken mesh.
+  std::vector<Vector3d> pts = test::box_points(Vector3d::Zero(), Vector3d::Ones());
+  pts.push_back({0.5, 0.5, 0.5});
+  auto polys = test::box_polygons();
+  polys[test::kTop] = {4, 5, 8};
+  polys.push_back({5, 6, 8});
+  polys.push_back({6, 7, 8});
+  polys.push_back({7, 4, 8});
+  HalfEdgeMesh m = test::mesh_from(pts, polys);
+  ASSERT_FALSE(m.validate().ok());
+  const HalfEdgeMesh before = m;
+  const CutResult r = cut_by_plane(m, make_plane({0, 0, 1}, 0.75));
+  EXPECT_EQ(r.status, CutStatus::topology_failure);
+  EXPECT_EQ(m.polygons(), before.polygons());
+  for (Index v = 0; v < m.vertex_count(); ++v) EXPECT_EQ(m.position(v), before.position(v));
+  // Below the dent, one loop again: a clean cut.
+  EXPECT_EQ(cut_by_plane(m, make_plane({0, 0, 1}, 0.25)).status, CutStatus::cut);
+  EXPECT_TRUE(m.validate().ok()) << m.validate().to_string();
 }
 
 TEST(CutByPlane, CompactsAfterEdits) {

@@ -27,8 +27,9 @@ enum class MassStatus {
   ok,             // a solid: every field is meaningful
   flat,           // zero volume (polygon, segment, point): mass and inertia
                   // are zero, centroid and surface area are still meaningful
-  invalid_input,  // empty mesh, non-finite position, or a density that is
-                  // negative or not finite: every field is zero
+  invalid_input,  // empty mesh, non-finite position, coordinates so large
+                  // that the moments overflow, or a density that is negative
+                  // or not finite: every field is zero
 };
 
 const char* to_string(MassStatus status);
