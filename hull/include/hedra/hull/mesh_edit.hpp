@@ -68,8 +68,8 @@ enum class CutStatus {
   emptied,           // no vertex more than tolerance behind: nothing with
                      // thickness remains behind the plane; the mesh is cleared
   invalid_plane,     // zero or non-finite normal, or non-finite offset: untouched
-  invalid_mesh,      // empty mesh, non-finite positions, or inconsistent array
-                     // sizes: untouched
+  invalid_mesh,      // empty mesh, non-finite positions (or so large that edge
+                     // vectors overflow), or out-of-range links: untouched
   topology_failure,  // the classification gave no single border loop (see the
                      // note at the top): untouched
 };
@@ -101,7 +101,8 @@ CutResult cut_by_plane(HalfEdgeMesh& mesh, const Plane& plane);
 enum class ClipStatus {
   ok,                 // out[0, count) holds the clipped polygon (may be empty)
   capacity_exceeded,  // `capacity` was too small: count is what fit, truncated
-  invalid_input,      // non-finite point or plane, or zero normal: count = 0
+  invalid_input,      // non-finite point or plane, zero normal, or a crossing
+                      // that overflows: count = 0
 };
 
 struct ClipResult {
