@@ -36,39 +36,11 @@ std::string dump(const Points& points) {
   return "input " + format_points(points);
 }
 
-// The checks every successful build must pass.
+// The checks every successful build must pass (soundness_problem).
 ::testing::AssertionResult is_sound_hull(const QuickhullResult& r, const Points& points) {
-  if (!r.ok())
-    return ::testing::AssertionFailure() << "status " << hull::to_string(r.status) << ": " << r.error << "\n"
-                                         << dump(points);
-  if (r.dimension != r.mesh.dimension())
-    return ::testing::AssertionFailure() << "result.dimension " << r.dimension << " but mesh.dimension() "
-                                         << r.mesh.dimension() << "\n"
-                                         << dump(points);
-  // 0 only for a single distinct point (the extent is 0). The mesh's own
-  // tolerance (used by validate()) may add slack, never less.
-  if (!(r.tolerance >= 0.0) || !(r.mesh.tolerance() >= r.tolerance))
-    return ::testing::AssertionFailure() << "tolerance " << r.tolerance << ", mesh.tolerance() " << r.mesh.tolerance()
-                                         << "\n"
-                                         << dump(points);
-  const std::string why = check_vertices_are_input_points(r, points);
-  if (!why.empty()) return ::testing::AssertionFailure() << why << "\n" << dump(points);
-  const hull::ValidationReport report = r.mesh.validate();
-  if (!report.ok()) return ::testing::AssertionFailure() << "validate():\n" << report.to_string() << dump(points);
-  const double limit = kOutsideFactor * r.tolerance;
-  const double reported = hull::max_outside_distance(r.mesh, points);
-  if (!(reported <= reported_outside_bound(r.tolerance, points)))
-    return ::testing::AssertionFailure() << "max_outside_distance " << reported << " > "
-                                         << reported_outside_bound(r.tolerance, points) << "\n"
-                                         << dump(points);
-  const Farthest mine = farthest_outside(r.mesh, points);
-  if (mine.distance > limit) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "point %zu is %.17g outside (limit %.17g, own check)", mine.index, mine.distance,
-                  limit);
-    return ::testing::AssertionFailure() << buf << "\n" << dump(points);
-  }
-  return ::testing::AssertionSuccess();
+  const std::string problem = soundness_problem(r, points);
+  if (problem.empty()) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << problem << "\n" << dump(points);
 }
 
 Points cube_corners(double half = 1.0) {

@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <chrono>
 #include <cinttypes>
@@ -115,10 +116,69 @@ inline double centred_extent(const std::vector<Eigen::Vector3d>& points) {
   return 0.5 * (hi - lo).maxCoeff();
 }
 
-// A face plane fitted here rather than taken from the mesh: Newell's normal
-// and the vertex average, both relative to one vertex of the face (an input
-// point, exact) so that far-from-origin coordinates cancel exactly (Sterbenz)
-// instead of costing ulp(|x|) as a world-space offset would.
+// Error-free transformations (Knuth's two-sum, an fma for the product) and a
+// correctly rounded sum of many terms (Shewchuk's non-overlapping partials,
+// the algorithm behind Python's math.fsum). They make the face normals below
+// accurate to the last bit however thin the face; needs -ffp-contract=off
+// (hedra_warnings sets it).
+namespace exact {
+inline void two_sum(double a, double b, double& sum, double& err) {
+  sum = a + b;
+  const double b_virtual = sum - a;
+  const double a_virtual = sum - b_virtual;
+  err = (a - a_virtual) + (b - b_virtual);
+}
+inline void two_product(double a, double b, double& product, double& err) {
+  product = a * b;
+  err = std::fma(a, b, -product);
+}
+inline double sum(const std::vector<double>& terms) {
+  thread_local std::vector<double> partials;  // reused: this runs per triangle
+  partials.clear();
+  for (double x : terms) {
+    std::size_t kept = 0;
+    for (double y : partials) {
+      double hi = 0.0;
+      double lo = 0.0;
+      two_sum(x, y, hi, lo);
+      if (lo != 0.0) partials[kept++] = lo;
+      x = hi;
+    }
+    partials.resize(kept);
+    partials.push_back(x);
+  }
+  double total = 0.0;
+  for (auto it = partials.rbegin(); it != partials.rend(); ++it) total += *it;
+  return total;
+}
+// Appends the exact terms of (a1 - a0) * (b1 - b0) to `terms`.
+inline void append_difference_product(double a1, double a0, double b1, double b0, double sign,
+                                      std::vector<double>& terms) {
+  double da = 0.0;
+  double da_err = 0.0;
+  double db = 0.0;
+  double db_err = 0.0;
+  two_sum(a1, -a0, da, da_err);
+  two_sum(b1, -b0, db, db_err);
+  for (double x : {da, da_err}) {
+    for (double y : {db, db_err}) {
+      double p = 0.0;
+      double e = 0.0;
+      two_product(x, y, p, e);
+      terms.push_back(sign * p);
+      terms.push_back(sign * e);
+    }
+  }
+}
+}  // namespace exact
+
+// A face plane fitted here rather than taken from the mesh. The normal is
+// Newell's, sum over edges of (p_i - a) x (p_{i+1} - a) around an anchor
+// vertex a, evaluated exactly and rounded once: a face a billionth as wide as
+// it is long still gets its normal to ~1e-16 rad, where plain floating point
+// loses everything to cancellation. The offset averages the vertices'
+// heights along that normal, relative to the anchor (an input point, so far
+// from the origin nothing cancels).
 struct LocalPlane {
   Eigen::Vector3d anchor;  // a vertex of the face
   Eigen::Vector3d normal;  // unit, outward
@@ -132,14 +192,26 @@ inline LocalPlane fitted_plane(const hull::HalfEdgeMesh& mesh, hull::Index f) {
   for (hull::Index v : mesh.face_vertices(f)) ring.push_back(mesh.position(v));
   LocalPlane plane;
   plane.anchor = ring[0];
-  for (auto& p : ring) p -= plane.anchor;
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const auto& p : ring) c += p;
-  c /= static_cast<double>(ring.size());
-  Eigen::Vector3d n = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < ring.size(); ++i) n += (ring[i] - c).cross(ring[(i + 1) % ring.size()] - c);
+  Eigen::Vector3d n;
+  std::vector<double> terms;
+  for (int axis = 0; axis < 3; ++axis) {
+    // Component `axis` of (p - a) x (q - a) is (p_j - a_j)(q_k - a_k) - (p_k - a_k)(q_j - a_j).
+    const int j = (axis + 1) % 3;
+    const int k = (axis + 2) % 3;
+    terms.clear();
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      const Eigen::Vector3d& p = ring[i];
+      const Eigen::Vector3d& q = ring[(i + 1) % ring.size()];
+      const Eigen::Vector3d& a = plane.anchor;
+      exact::append_difference_product(p[j], a[j], q[k], a[k], 1.0, terms);
+      exact::append_difference_product(p[k], a[k], q[j], a[j], -1.0, terms);
+    }
+    n[axis] = exact::sum(terms);
+  }
   plane.normal = n.normalized();
-  plane.offset = plane.normal.dot(c);
+  double height = 0.0;
+  for (const auto& p : ring) height += plane.normal.dot(p - plane.anchor);
+  plane.offset = height / static_cast<double>(ring.size());
   return plane;
 }
 
@@ -213,22 +285,60 @@ inline double reported_outside_bound(double tolerance, const std::vector<Eigen::
   return kOutsideFactor * (tolerance + 3 * DBL_EPSILON * far);
 }
 
-// Volume and area by the divergence theorem over a fan of each face, around
-// the vertex average (0 for a flat or lower-dimensional hull).
+// Volume by the divergence theorem: tetrahedra from one hull vertex r to a fan
+// of each face, each determinant det(a - r, b - r, c - r) evaluated exactly
+// (error-free differences and products, correctly rounded sum). Relative to a
+// vertex of a convex hull every tetrahedron is non-negative (up to the
+// tolerance), so summing the rounded tetrahedra loses nothing either. Plain
+// floating point gets needles and slivers (a cluster pair 1e-12 wide) wrong
+// by orders of magnitude. 0 for a flat or lower-dimensional hull.
 inline double mesh_volume(const hull::HalfEdgeMesh& mesh) {
   if (mesh.dimension() != 3) return 0.0;
-  Eigen::Vector3d r = Eigen::Vector3d::Zero();
-  for (const auto& v : mesh.vertices) r += v.position;
-  r /= static_cast<double>(mesh.vertex_count());
-  double six_v = 0.0;
+  const Eigen::Vector3d r = mesh.position(0);
+  std::vector<double> terms;
+  std::vector<double> tetrahedra;
+  auto diff = [&](const Eigen::Vector3d& p, int axis) {
+    std::array<double, 2> d{};
+    exact::two_sum(p[axis], -r[axis], d[0], d[1]);
+    return d;
+  };
   for (hull::Index f = 0; f < mesh.face_count(); ++f) {
     std::vector<Eigen::Vector3d> ring;
-    for (hull::Index v : mesh.face_vertices(f)) ring.push_back(mesh.position(v) - r);
-    for (std::size_t i = 1; i + 1 < ring.size(); ++i) six_v += ring[0].dot(ring[i].cross(ring[i + 1]));
+    for (hull::Index v : mesh.face_vertices(f)) ring.push_back(mesh.position(v));
+    for (std::size_t i = 1; i + 1 < ring.size(); ++i) {
+      const Eigen::Vector3d* rows[3] = {&ring[0], &ring[i], &ring[i + 1]};
+      terms.clear();
+      // det = sum over permutations (x, y, z) of sign * a_x * b_y * c_z.
+      static constexpr int kPerm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {1, 0, 2}, {2, 1, 0}};
+      for (int k = 0; k < 6; ++k) {
+        const double sign = k < 3 ? 1.0 : -1.0;
+        const auto x = diff(*rows[0], kPerm[k][0]);
+        const auto y = diff(*rows[1], kPerm[k][1]);
+        const auto z = diff(*rows[2], kPerm[k][2]);
+        for (double xi : x) {
+          for (double yi : y) {
+            double p = 0.0;
+            double e = 0.0;
+            exact::two_product(xi, yi, p, e);
+            for (double w : {p, e}) {
+              for (double zi : z) {
+                double p2 = 0.0;
+                double e2 = 0.0;
+                exact::two_product(w, zi, p2, e2);
+                if (p2 != 0.0) terms.push_back(sign * p2);
+                if (e2 != 0.0) terms.push_back(sign * e2);
+              }
+            }
+          }
+        }
+      }
+      tetrahedra.push_back(exact::sum(terms));
+    }
   }
-  return six_v / 6.0;
+  return exact::sum(tetrahedra) / 6.0;
 }
 
+// Area as the sum of the fan triangles' areas (used only for allowances).
 inline double mesh_area(const hull::HalfEdgeMesh& mesh) {
   double twice = 0.0;
   for (hull::Index f = 0; f < mesh.face_count(); ++f) {
@@ -290,6 +400,44 @@ inline std::string check_vertices_are_input_points(const hull::QuickhullResult& 
   }
   const auto positions = sorted_positions(r.mesh);
   if (std::adjacent_find(positions.begin(), positions.end()) != positions.end()) return "two hull vertices coincide";
+  return {};
+}
+
+// Empty when `r` passes every check a successful build must pass, else what
+// failed: status ok; result.dimension == mesh.dimension(); a tolerance >= 0
+// with the mesh's own (validate()'s) no smaller; vertices are input points;
+// validate(); every input point within kOutsideFactor * tolerance of the hull
+// by this file's measure, and hedra's max_outside_distance within
+// reported_outside_bound.
+inline std::string soundness_problem(const hull::QuickhullResult& r, const std::vector<Eigen::Vector3d>& points) {
+  char buf[320];
+  if (!r.ok()) return std::string("status ") + hull::to_string(r.status) + ": " + r.error;
+  if (r.dimension != r.mesh.dimension())
+    return "result.dimension " + std::to_string(r.dimension) + " but mesh.dimension() " +
+           std::to_string(r.mesh.dimension());
+  // 0 only for a single distinct point (the extent is 0).
+  if (!(r.tolerance >= 0.0) || !(r.mesh.tolerance() >= r.tolerance)) {
+    std::snprintf(buf, sizeof buf, "tolerance %.17g, mesh.tolerance() %.17g", r.tolerance, r.mesh.tolerance());
+    return buf;
+  }
+  const std::string why = check_vertices_are_input_points(r, points);
+  if (!why.empty()) return why;
+  const hull::ValidationReport report = r.mesh.validate();
+  if (!report.ok()) return "validate():\n" + report.to_string();
+  const double limit = kOutsideFactor * r.tolerance;
+  const Farthest mine = farthest_outside(r.mesh, points);
+  if (mine.distance > limit) {
+    std::snprintf(buf, sizeof buf, "point %zu is %.17g outside = %.3g tolerances (limit %g, own check)", mine.index,
+                  mine.distance, mine.distance / r.tolerance, kOutsideFactor);
+    return buf;
+  }
+  const double reported = hull::max_outside_distance(r.mesh, points);
+  const double bound = reported_outside_bound(r.tolerance, points);
+  if (!(reported <= bound)) {
+    std::snprintf(buf, sizeof buf, "max_outside_distance %.17g > %.17g (own check: %.17g)", reported, bound,
+                  mine.distance);
+    return buf;
+  }
   return {};
 }
 
