@@ -53,17 +53,13 @@ Eigen::Vector3d HalfEdgeMesh::face_centroid(Index f) const {
 }
 
 void HalfEdgeMesh::update_plane(Index f) {
-  // Newell's method, around the vertex average so that large coordinates do
-  // not cancel: n = sum over edges (p_i - c) x (p_{i+1} - c) = 2 * area * normal.
-  const Eigen::Vector3d c = face_centroid(f);
-  Eigen::Vector3d n = Eigen::Vector3d::Zero();
-  for (Index e : face_edges(f)) {
-    n += (position(origin(e)) - c).cross(position(destination(e)) - c);
-  }
-  const double len = n.norm();
-  Plane& pl = faces[f].plane;
-  pl.normal = len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
-  pl.offset = pl.normal.dot(c);
+  // The face's vertices in order, gathered once (faces are small; a flat
+  // hull's two faces may be large, and this runs once per face).
+  thread_local std::vector<Index> ring;
+  ring.clear();
+  for (Index v : face_vertices(f)) ring.push_back(v);
+  faces[f].plane =
+      polygon_plane(ring.size(), [&](std::size_t i) -> const Eigen::Vector3d& { return position(ring[i]); });
 }
 
 void HalfEdgeMesh::update_planes() {

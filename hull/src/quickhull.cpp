@@ -12,6 +12,8 @@
 // pass over the array visits them all.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <hedra/hull/assert.hpp>
 #include <hedra/hull/quickhull.hpp>
 #include <limits>
@@ -78,6 +80,8 @@ struct QuickhullBuilder::Impl {
   std::vector<Index> new_faces;
   std::vector<Index> orphans;
   std::vector<Index> discarded;
+  std::vector<Index> ring;         // a face's vertices, for plane fitting
+  bool collapsed = false;          // a merge found the solid flattened (see absorb)
   std::vector<Index> point_stamp;  // per point, for horizon checks and compaction
   Index stamp = 0;
   struct Frame {
@@ -90,26 +94,19 @@ struct QuickhullBuilder::Impl {
   // ---- face helpers -----------------------------------------------------
   void update_face(Index f) {
     WorkFace& face = faces[f];
-    Vec3 c = Vec3::Zero();
-    int n = 0;
+    ring.clear();
     Index e = face.edge;
     do {
-      c += pts[edges[e].origin];
-      ++n;
+      ring.push_back(edges[e].origin);
       e = edges[e].next;
-    } while (e != face.edge && n <= static_cast<int>(edges.size()));
-    c /= n;
-    Vec3 normal = Vec3::Zero();
-    e = face.edge;
-    do {
-      normal += (pts[edges[e].origin] - c).cross(pts[edges[edges[e].next].origin] - c);
-      e = edges[e].next;
-    } while (e != face.edge);
-    const double len = normal.norm();
-    face.area = 0.5 * len;
-    face.normal = len > 0 ? Vec3(normal / len) : Vec3::Zero();
-    face.centroid = c;
-    face.offset = face.normal.dot(c);
+    } while (e != face.edge && ring.size() <= edges.size());
+    Vec3 c = Vec3::Zero();
+    for (Index p : ring) c += pts[p];
+    face.centroid = c / static_cast<double>(ring.size());
+    const Plane plane = polygon_plane(
+        ring.size(), [&](std::size_t i) -> const Vec3& { return pts[ring[i]]; }, &face.area);
+    face.normal = plane.normal;
+    face.offset = plane.offset;
   }
 
   int degree(Index f) const {
@@ -171,6 +168,10 @@ struct QuickhullBuilder::Impl {
   Index connect(Index hprev, Index h) {
     const Index tp = edges[hprev].twin, th = edges[h].twin;
     const Index o = edges[tp].face;
+    if (o == edges[hprev].face || faces[o].mark != Mark::alive) {
+      collapsed = true;  // the face wraps onto itself: flattened solid
+      return kInvalidIndex;
+    }
     if (o != edges[th].face) {
       edges[hprev].next = h;
       edges[h].prev = hprev;
@@ -204,17 +205,32 @@ struct QuickhullBuilder::Impl {
     const Index f = edges[adj].face;
     const Index opp = edges[adj].twin;
     const Index g = edges[opp].face;
+    if (g == f) {
+      collapsed = true;  // an edge with the same face on both sides: flattened solid
+      return;
+    }
     faces[g].mark = Mark::deleted;
     discarded.push_back(g);
     Index adj_prev = edges[adj].prev, adj_next = edges[adj].next;
     Index opp_prev = edges[opp].prev, opp_next = edges[opp].next;
-    for (std::size_t guard = 0; edges[edges[adj_prev].twin].face == g && guard < edges.size(); ++guard) {
+    const int deg_f = degree(f), deg_g = degree(g);
+    int shared = 1;
+    for (; edges[edges[adj_prev].twin].face == g && shared < deg_f; ++shared) {
       adj_prev = edges[adj_prev].prev;
       opp_next = edges[opp_next].next;
     }
-    for (std::size_t guard = 0; edges[edges[adj_next].twin].face == g && guard < edges.size(); ++guard) {
+    for (; edges[edges[adj_next].twin].face == g && shared < deg_f; ++shared) {
       opp_prev = edges[opp_prev].prev;
       adj_next = edges[adj_next].next;
+    }
+    if ((deg_f - shared) + (deg_g - shared) < 3) {
+      // The two faces share all their edges but two: the solid has
+      // flattened into these faces (a slab a few eps thick). Leave the
+      // structure as it is; the build reports it and retries.
+      faces[g].mark = Mark::alive;
+      discarded.pop_back();
+      collapsed = true;
+      return;
     }
     const Index stop = edges[opp_prev].next;
     for (Index h = opp_next; h != stop; h = edges[h].next) edges[h].face = f;
@@ -223,6 +239,12 @@ struct QuickhullBuilder::Impl {
     if (d1 != kInvalidIndex) discarded.push_back(d1);
     const Index d2 = connect(adj_prev, opp_next);
     if (d2 != kInvalidIndex) discarded.push_back(d2);
+    // Removing redundant vertices can shrink a face below a triangle only
+    // when the solid has flattened (as above); abandon this attempt.
+    if (degree(f) < 3) {
+      collapsed = true;
+      return;
+    }
     update_face(f);
   }
 
@@ -261,6 +283,7 @@ struct QuickhullBuilder::Impl {
       if (merge) {
         discarded.clear();
         absorb(e);
+        if (collapsed) return false;
         for (Index d : discarded) move_conflicts(d, f);
         return true;
       }
@@ -269,11 +292,39 @@ struct QuickhullBuilder::Impl {
     return false;
   }
 
+  // Nearly coplanar faces meeting at a vertex (dihedral angles within the
+  // tolerance of flat, as on a bumpy, almost flat patch) can leave a merged
+  // face whose polygon turns outward at that vertex. Such a vertex lies in a
+  // wedge filled by faces coplanar with this one within eps: absorb the face
+  // across the edge leading into it, until the polygon is convex.
+  bool merge_reflex_once(Index f) {
+    const Index start = faces[f].edge;
+    Index e = start;
+    std::size_t guard = 0;
+    do {
+      const Index nx = edges[e].next;
+      const Vec3& a = pts[edges[e].origin];
+      const Vec3& b = pts[edges[nx].origin];
+      const Vec3& c = pts[edges[edges[nx].next].origin];
+      const Vec3 d = b - a;
+      const double dl = d.norm();
+      if (dl > 0 && d.cross(faces[f].normal).dot(c - b) > eps * dl) {
+        discarded.clear();
+        absorb(e);
+        if (collapsed) return false;
+        for (Index g : discarded) move_conflicts(g, f);
+        return true;
+      }
+      e = nx;
+    } while (e != start && ++guard <= edges.size());
+    return false;
+  }
+
   void merge_new_faces() {
     const std::size_t cap = faces.size() + 1;
     std::vector<Index>& nf = new_faces;
     std::vector<std::uint8_t> flagged(nf.size(), 0);  // small: one byte per new face
-    for (std::size_t i = 0; i < nf.size(); ++i) {
+    for (std::size_t i = 0; i < nf.size() && !collapsed; ++i) {
       if (faces[nf[i]].mark != Mark::alive) continue;
       bool nonconvex = false;
       for (std::size_t k = 0; k < cap; ++k) {
@@ -282,11 +333,20 @@ struct QuickhullBuilder::Impl {
       }
       flagged[i] = nonconvex;
     }
-    for (std::size_t i = 0; i < nf.size(); ++i) {
+    for (std::size_t i = 0; i < nf.size() && !collapsed; ++i) {
       if (!flagged[i] || faces[nf[i]].mark != Mark::alive) continue;
       bool unused = false;
       for (std::size_t k = 0; k < cap; ++k)
         if (!merge_once(nf[i], MergeRule::nonconvex, unused)) break;
+    }
+    for (std::size_t i = 0; i < nf.size() && !collapsed; ++i) {
+      if (faces[nf[i]].mark != Mark::alive) continue;
+      for (std::size_t k = 0; k < cap; ++k) {
+        if (!merge_reflex_once(nf[i])) break;
+        bool unused = false;  // the grown face may now be concave with a neighbour
+        for (std::size_t j = 0; j < cap; ++j)
+          if (!merge_once(nf[i], MergeRule::nonconvex, unused)) break;
+      }
     }
   }
 
@@ -368,6 +428,7 @@ struct QuickhullBuilder::Impl {
     }
     link_twins(prev_side, first_side);
     merge_new_faces();
+    if (collapsed) return;  // the structure is abandoned; see absorb()
     // Hand the orphans to the new faces (the farthest one in front, stopping
     // early when one is clearly in front); the rest are inside.
     for (Index p : orphans) {
@@ -452,6 +513,53 @@ struct QuickhullBuilder::Impl {
     // The upper chain ends at the first point again.
     if (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();
     if (ring.size() > 1 && (xy[ring.back()] - xy[ring.front()]).norm() <= eps) ring.pop_back();
+  }
+
+  // Consistency of the working structure (debugging aid): "" when sound.
+  std::string check_structure() const {
+    for (Index f = 0; f < faces.size(); ++f) {
+      if (faces[f].mark != Mark::alive) continue;
+      Index e = faces[f].edge;
+      std::size_t n = 0;
+      do {
+        const WorkEdge& h = edges[e];
+        if (h.face != f)
+          return "edge " + std::to_string(e) + " of face " + std::to_string(f) + " names face " +
+                 std::to_string(h.face);
+        if (edges[h.next].prev != e) return "next/prev broken at edge " + std::to_string(e);
+        if (edges[h.twin].twin != e) return "twin broken at edge " + std::to_string(e);
+        if (faces[edges[h.twin].face].mark != Mark::alive)
+          return "twin of edge " + std::to_string(e) + " (face " + std::to_string(f) + ") in dead face " +
+                 std::to_string(edges[h.twin].face) + " mark " + std::to_string(int(faces[edges[h.twin].face].mark));
+        if (edges[h.next].origin != edges[h.twin].origin) return "origin(next) != dest at edge " + std::to_string(e);
+        e = h.next;
+        if (++n > edges.size()) return "face " + std::to_string(f) + " cycle does not close";
+      } while (e != faces[f].edge);
+      if (n < 3) return "face " + std::to_string(f) + " has " + std::to_string(n) + " edges";
+    }
+    return "";
+  }
+
+  // Checks the faces this iteration created or grew: their cycles close,
+  // have at least three edges, and link consistently with their neighbours.
+  // Cheap (proportional to the iteration's work); a failure means merging met
+  // a flattened solid, and the attempt is abandoned.
+  bool new_faces_sound() const {
+    for (Index f : new_faces) {
+      if (faces[f].mark != Mark::alive) continue;
+      Index e = faces[f].edge;
+      std::size_t n = 0;
+      do {
+        const WorkEdge& h = edges[e];
+        if (h.face != f || edges[h.next].prev != e || edges[h.twin].twin != e ||
+            faces[edges[h.twin].face].mark != Mark::alive || edges[h.next].origin != edges[h.twin].origin)
+          return false;
+        e = h.next;
+        if (++n > edges.size()) return false;
+      } while (e != faces[f].edge);
+      if (n < 3) return false;
+    }
+    return true;
   }
 
   // O(E) check of what merging can get wrong: every face planar within tol,
@@ -603,6 +711,7 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
   // Tetrahedron, faces wound outward.
   edges.clear();
   faces.clear();
+  collapsed = false;
   conflict_next.assign(n, kInvalidIndex);
   point_stamp.assign(n, 0);
   stamp = 0;
@@ -640,7 +749,7 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
 
   const std::size_t cap = options.max_iterations > 0 ? options.max_iterations : n;
   std::size_t skipped = 0;
-  for (Index cursor = 0; cursor < faces.size();) {
+  for (Index cursor = 0; cursor < faces.size() && !collapsed;) {
     WorkFace& face = faces[cursor];
     if (face.mark != Mark::alive || face.conflict == kInvalidIndex) {
       ++cursor;
@@ -673,12 +782,28 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
       continue;
     }
     add_point(eye);
+    if (!collapsed && !new_faces_sound()) collapsed = true;
+#ifdef HEDRA_QUICKHULL_DEBUG
+    const std::string problem = collapsed ? std::string() : check_structure();
+    if (!problem.empty()) {
+      std::fprintf(stderr, "quickhull: after adding point %u: %s\n", eye, problem.c_str());
+      std::abort();
+    }
+#endif
   }
   (void)skipped;
-  if (r.status == QuickhullStatus::ok && !faces_are_sound(4 * eps)) {
+  std::size_t alive = 0;
+  for (const WorkFace& face : faces) alive += face.mark == Mark::alive;
+  if (r.status == QuickhullStatus::ok && (alive < 4 || collapsed)) {
+    // A slab only a few eps thick can merge away into nothing: not a solid
+    // at this tolerance (the retry's larger eps sees it as flat).
+    r.status = QuickhullStatus::topology_failure;
+    r.error = "solid collapsed while merging at tolerance " + std::to_string(eps);
+  } else if (r.status == QuickhullStatus::ok && !faces_are_sound(4 * eps)) {
     r.status = QuickhullStatus::topology_failure;
     r.error = "faces warped beyond the tolerance " + std::to_string(eps);
   }
+  if (collapsed) return;  // nothing trustworthy to compact; the caller retries
   compact(input, r);
   r.mesh.set_tolerance(mesh_tolerance);
   // The structure is correct by construction; debug builds prove it.

@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdint>
 #include <iterator>
 #include <limits>
@@ -46,6 +47,38 @@ struct Plane {
 
   double signed_distance(const Eigen::Vector3d& p) const { return normal.dot(p) - offset; }
 };
+
+// Plane of a polygon given by n vertices (pos(i) returns vertex i, in order):
+// Newell's normal, N = sum (p_i - c) x (p_{i+1} - c) around the vertex
+// average c (so large coordinates do not cancel), made exactly perpendicular
+// to the polygon's longest edge. For a sliver (a thin triangle whose vertices
+// are nearly collinear) the cross products' rounding tilts N about the
+// sliver's short axis; removing N's component along the longest edge undoes
+// that tilt, so both ends of the long edge sit at the same height. *area gets
+// the polygon's area (|N| / 2). A degenerate polygon gets a zero normal.
+template <class PositionAt>
+Plane polygon_plane(std::size_t n, PositionAt pos, double* area = nullptr) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) c += pos(i);
+  c /= static_cast<double>(n > 0 ? n : 1);
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero(), longest = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d a = pos(i) - c, b = pos(i + 1 == n ? 0 : i + 1) - c;
+    normal += a.cross(b);
+    const Eigen::Vector3d edge = b - a;
+    if (edge.squaredNorm() > longest.squaredNorm()) longest = edge;
+  }
+  if (area) *area = 0.5 * normal.norm();
+  const double ll = longest.squaredNorm();
+  if (ll > 0) normal -= (normal.dot(longest) / ll) * longest;
+  const double len = normal.norm();
+  Plane plane;
+  if (len > 0 && std::isfinite(len)) {
+    plane.normal = normal / len;
+    plane.offset = plane.normal.dot(c);
+  }
+  return plane;
+}
 
 struct Vertex {
   Eigen::Vector3d position;
