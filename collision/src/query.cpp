@@ -18,6 +18,10 @@ const char* to_string(Status status) {
       return "degenerate";
     case Status::invalid_input:
       return "invalid_input";
+    case Status::polytope_full:
+      return "polytope_full";
+    case Status::stalled:
+      return "stalled";
   }
   return "unknown";
 }
@@ -132,6 +136,76 @@ DistanceResult distance_typed(const SA& a, const Pose& pose_a, const SB& b, cons
   return out;
 }
 
+Status to_status(EpaStatus s) {
+  switch (s) {
+    case EpaStatus::ok:
+      return Status::ok;
+    case EpaStatus::max_iterations:
+      return Status::max_iterations;
+    case EpaStatus::polytope_full:
+      return Status::polytope_full;
+    case EpaStatus::stalled:
+      return Status::stalled;
+    case EpaStatus::degenerate:
+      return Status::degenerate;
+  }
+  return Status::degenerate;
+}
+
+template <class SA, class SB>
+PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, GjkCache* cache,
+                                    const PenetrationSettings& settings) {
+  PairSetup<SA, SB> p(a, pose_a, b, pose_b, cache);
+  const Transformed<decltype(p.core_b)> placed_b{p.core_b, p.relative.rotation, p.relative.translation};
+  const GjkResult g = gjk_distance(p.core_a, placed_b, p.initial_axis, p.scale, settings.gjk);
+  p.store(cache, g);
+
+  PenetrationResult out;
+  out.status = to_status(g.status);
+  out.gjk_iterations = g.iterations;
+  if (g.status == GjkStatus::degenerate) return out;
+  // The cores' signed distance, normal (A's core frame) and witnesses:
+  // GJK's when the cores are clearly apart, EPA's when they overlap or touch.
+  double core_distance = g.distance;
+  Eigen::Vector3d n = Eigen::Vector3d::Zero(), core_a = g.point_a, core_b = g.point_b;
+  bool answered = false;
+  const double band = settings.touching_band * p.scale;
+  if (g.intersecting || g.lower_bound <= band) {
+    const EpaResult e = epa_penetration(p.core_a, placed_b, g.simplex, p.scale, p.relative.translation, settings.epa);
+    out.epa_iterations = e.iterations;
+    // Overlapping cores: EPA's answer, whatever its status. Touching from
+    // outside (GJK cannot certify a separation above the band), GJK's answer
+    // is valid too: EPA's replaces it when it converged and either GJK's
+    // normal is rounding noise (|v| within the band) or EPA's certified
+    // error is smaller (GJK stalls on curved cores near contact).
+    const bool epa_better = e.status == EpaStatus::ok && (g.distance <= band || e.error_bound <= g.error_bound);
+    if (g.intersecting || epa_better) {
+      out.status = to_status(e.status);
+      if (e.status == EpaStatus::degenerate) return out;
+      core_distance = -e.depth;
+      n = e.normal;
+      core_a = e.point_a;
+      core_b = e.point_b;
+      out.error_bound = e.error_bound;
+      answered = true;
+    }
+  }
+  if (!answered) {
+    // Separated cores: |v| > GJK's zero threshold > 0.
+    n = -g.v / g.distance;
+    out.error_bound = g.error_bound;
+  }
+  out.distance = core_distance - (p.radius_a + p.radius_b);
+  out.intersecting = out.distance <= 0.0;
+  const Eigen::Vector3d local_a = core_a + p.radius_a * n;
+  const Eigen::Vector3d local_b = core_b - p.radius_b * n;
+  const Eigen::Vector3d offset_a = core_offset(a);
+  out.normal = pose_a.rotation * n;
+  out.point_a = pose_a.rotation * (offset_a + local_a) + pose_a.translation;
+  out.point_b = pose_a.rotation * (offset_a + local_b) + pose_a.translation;
+  return out;
+}
+
 }  // namespace
 
 IntersectResult intersect(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, GjkCache* cache,
@@ -150,6 +224,17 @@ DistanceResult distance(const Shape& a, const Pose& pose_a, const Shape& b, cons
   }
   return std::visit(
       [&](const auto& sa, const auto& sb) { return distance_typed(sa, pose_a, sb, pose_b, cache, settings); }, a, b);
+}
+
+PenetrationResult penetration(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, GjkCache* cache,
+                              const PenetrationSettings& settings) {
+  if (!inputs_valid(a, pose_a, b, pose_b)) {
+    PenetrationResult out;
+    out.status = Status::invalid_input;
+    return out;
+  }
+  return std::visit(
+      [&](const auto& sa, const auto& sb) { return penetration_typed(sa, pose_a, sb, pose_b, cache, settings); }, a, b);
 }
 
 }  // namespace hedra::collision

@@ -4,11 +4,11 @@
 //                                          stops at the first separating axis)
 //   distance(a, pose_a, b, pose_b, cache)  distance, unit normal from A toward
 //                                          B and world witness points
-//   penetration(...)                       depth, normal and witnesses of
-//                                          overlapping shapes: EPA, the next
-//                                          step of issue 3 (not yet written;
-//                                          it will start from the GJK simplex
-//                                          that distance() ends with).
+//   penetration(a, pose_a, b, pose_b, cache) signed distance (negative =
+//                                          depth), normal and witnesses in
+//                                          every case: GJK, then EPA from
+//                                          GJK's final simplex when the cores
+//                                          overlap (epa.hpp).
 //
 // How a query runs: one std::visit on the pair of shapes picks fully typed
 // code; each shape splits into core + radius (minkowski.hpp); B's core is
@@ -20,12 +20,23 @@
 // coordinates at the end (point_b - point_a = distance * normal up to the
 // rounding of the world coordinates).
 //
+// penetration() runs the same GJK on the cores. Separated cores: the answer
+// is GJK's, minus the radii (negative when the radii overlap), no EPA; for
+// separated shapes it equals distance() whenever GJK certifies a separation
+// above a thin touching band (1e-9 of the size; inside it EPA may answer
+// better, see PenetrationSettings::touching_band). Overlapping or touching
+// cores: EPA on the cores from GJK's final simplex, and
+//   distance = -(core depth + r_a + r_b),
+//   point_a  = core point_a + r_a n,   point_b = core point_b - r_b n.
+// Either way point_b - point_a = distance * normal.
+//
 // Threads: shapes are immutable and the per-query state lives on the stack
 // or in the caller's cache, so many threads may query shared shapes, each
 // with its own caches.
 #pragma once
 
 #include <Eigen/Core>
+#include <hedra/collision/epa.hpp>
 #include <hedra/collision/gjk.hpp>
 #include <hedra/collision/minkowski.hpp>
 #include <hedra/collision/shapes.hpp>
@@ -34,9 +45,11 @@ namespace hedra::collision {
 
 enum class Status {
   ok,              // outputs valid
-  max_iterations,  // GJK hit its cap: outputs are the best so far, no verdict
+  max_iterations,  // GJK or EPA hit its cap: outputs are the best so far, no verdict
   degenerate,      // a non-finite support point appeared
   invalid_input,   // a shape failed validate() or a pose is not finite
+  polytope_full,   // EPA's fixed-capacity polytope ran out: best so far, see error_bound
+  stalled,         // EPA could not expand further (rounding): best so far, see error_bound
 };
 
 const char* to_string(Status status);
@@ -69,5 +82,44 @@ IntersectResult intersect(const Shape& a, const Pose& pose_a, const Shape& b, co
 
 DistanceResult distance(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                         GjkCache* cache = nullptr, const GjkSettings& settings = {});
+
+// ---- penetration: EPA --------------------------------------------------------
+
+struct PenetrationSettings {
+  GjkSettings gjk;
+  EpaSettings epa;
+  // Cores that GJK cannot certify to be farther apart than touching_band *
+  // scale may be touching: EPA then also runs from GJK's simplex (with the
+  // origin on or a hair outside the polytope) and its answer is kept when
+  // it converged and either |v| is within the band (GJK's normal -v/|v| is
+  // then mostly rounding: its angle error grows like eps scale / |v|) or its
+  // certified error is smaller than GJK's (GJK's strict-decrease rule can
+  // stop short near contact on curved cores).
+  double touching_band = 1e-9;
+};
+
+struct PenetrationResult {
+  Status status = Status::ok;
+  bool intersecting = false;  // distance <= 0: the shapes overlap or touch
+  // Signed distance: > 0 separated (then equal to distance()), < 0 the
+  // penetration depth, the shortest translation of B along `normal` that
+  // brings the shapes to touching.
+  double distance = 0.0;
+  // Unit normal from A toward B and witness points, world frame, with
+  // point_b - point_a = distance * normal (separated and penetrating).
+  // Finite whenever status is ok, max_iterations, polytope_full or stalled;
+  // zero for degenerate and invalid_input.
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();
+  // Bound on the error of |distance| (GJK's duality gap when separated, EPA's
+  // support-value gap when penetrating); exact in exact arithmetic.
+  double error_bound = 0.0;
+  int gjk_iterations = 0;
+  int epa_iterations = 0;  // 0 when EPA did not run
+};
+
+PenetrationResult penetration(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                              GjkCache* cache = nullptr, const PenetrationSettings& settings = {});
 
 }  // namespace hedra::collision

@@ -1,0 +1,697 @@
+// EPA, the Expanding Polytope Algorithm (van den Bergen, "Proximity Queries
+// and Penetration Depth Computation on 3D Game Objects", GDC 2001; "Collision
+// Detection in Interactive 3D Environments", 2003, section 4.3.7): the
+// penetration depth, normal and witness points of two overlapping convex
+// shapes, over the same support concept as GJK (gjk.hpp), both shapes in one
+// common frame.
+//
+// The penetration depth is the distance from the origin to the boundary of
+// the Minkowski difference D = A - B (the origin lies inside D when A and B
+// overlap): D's support function is h(u) = max_{x in D} u . x, the depth is
+// min_{|u|=1} h(u) and the minimising u is the normal from A toward B
+// (translating B by depth * u brings the shapes to touching). EPA keeps a
+// convex polytope P inside D around the origin, with vertices w_i = a_i - b_i
+// on D's boundary, and repeats:
+//   f  = the face of P nearest the origin (plane n . x = d, |n| = 1);
+//   w  = support of D along n;
+//   d <= depth <= h(n) = n . w    (P is inside D: its depth d is a lower
+//                                  bound; any direction's support value is
+//                                  an upper bound);
+//   stop when n . w - d <= max(relative_tolerance d, absolute_tolerance
+//   scale), scale being the shapes' size; otherwise add w to P: remove the
+//   faces that see w (n_g . w > d_g), found by a walk over face adjacency
+//   from f, and fan new faces from w to the horizon (the boundary of the
+//   removed region), so that P stays convex.
+// The answer is f's plane: depth d, normal n; the witness points are the
+// barycentric combination, with the coordinates of the origin's projection
+// d n on f, of the A and B support points stored with f's vertices.
+//
+// Start. EPA begins from the simplex GJK ended with (1 to 4 points whose hull
+// contains the origin, up to GJK's zero threshold). A simplex flatter than
+// flat_tolerance scale is first reduced to a sub-simplex whose hull holds the
+// origin's projection (a near-flat tetrahedron to one of its triangles, a
+// near-collinear triangle to an edge, a near-point segment to a point); then
+// it grows into a tetrahedron with support points along its degenerate
+// directions (any axis for a point, perpendiculars for a segment, +-normal for
+// a triangle), each new point at least flat_tolerance scale off the current
+// affine hull. The origin may then lie on a face or an edge of the
+// tetrahedron (touching, or a GJK simplex through the origin): faces are
+// oriented by the tetrahedron's signed volume, never by the origin, so a face
+// through the origin has d = 0 and a correct outward normal, and EPA expands
+// it like any other. The origin may even lie a hair outside P (a GJK simplex
+// that touches the origin from outside, see query.hpp's touching band): the
+// faces facing it then have d < 0, the nearest face is the one whose plane
+// separates most, and depth = d < 0 is minus that separation. If D has no extent along some direction (two coplanar
+// flat hulls, two segments, two points), D is flat, the origin lies on its
+// boundary and the depth is 0; the normal is then D's normal (flat), a
+// perpendicular (segment) or any unit vector (point), oriented toward the
+// caller's `preferred` direction (B's centre seen from A).
+//
+// Invariants kept:
+//   * every face's (n, d) comes from a cross product whose length is > 0 and
+//     finite (checked before the face exists), so n is a unit vector and
+//     every division by a face's area is safe;
+//   * faces are counter-clockwise seen from outside; each face knows its
+//     three neighbours and the matching edge index in each (a closed,
+//     two-manifold triangulation of a sphere);
+//   * an expansion is applied only after it was validated on the side: the
+//     horizon must be one simple cycle and every new face non-degenerate;
+//     otherwise P is left as it was and the loop stops (status stalled);
+//   * fixed capacity, no heap: kEpaMaxVertices vertices, kEpaMaxFaces faces
+//     (removed faces go back to a free list); running out gives status
+//     polytope_full with the best answer so far;
+//   * every exit leaves finite outputs, a unit normal and
+//     point_a - point_b = depth * normal (the rounding residual of the
+//     barycentric combination is split between the two points).
+//
+// Visibility uses a small threshold (1e-3 of the absolute tolerance): a face
+// that w is above by less than that is kept, so new faces are never slivers
+// of height below it, at the price of P being non-convex by at most that
+// much.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <hedra/collision/gjk.hpp>
+#include <limits>
+
+namespace hedra::collision {
+
+enum class EpaStatus {
+  ok,              // converged: depth within tolerance, outputs valid
+  max_iterations,  // the iteration cap was hit: best answer so far, see error_bound
+  polytope_full,   // the fixed-capacity polytope ran out of vertices or faces: best so far
+  stalled,         // rounding forbids a valid expansion while the gap is above tolerance: best so far
+  degenerate,      // no usable start (empty simplex) or a non-finite support point
+};
+
+inline const char* to_string(EpaStatus status) {
+  switch (status) {
+    case EpaStatus::ok:
+      return "ok";
+    case EpaStatus::max_iterations:
+      return "max_iterations";
+    case EpaStatus::polytope_full:
+      return "polytope_full";
+    case EpaStatus::stalled:
+      return "stalled";
+    case EpaStatus::degenerate:
+      return "degenerate";
+  }
+  return "unknown";
+}
+
+inline constexpr int kEpaMaxVertices = 128;
+// A convex polytope with V vertices has at most 2V - 4 triangles.
+inline constexpr int kEpaMaxFaces = 2 * kEpaMaxVertices;
+
+struct EpaSettings {
+  int max_iterations = 128;
+  // Stop once h(n) - d <= max(relative_tolerance * d, absolute_tolerance *
+  // scale), scale being the shapes' size.
+  double relative_tolerance = 1e-10;
+  double absolute_tolerance = 1e-10;
+  // Extents of D below flat_tolerance * scale count as zero (D is flat).
+  double flat_tolerance = 1e-10;
+};
+
+struct EpaResult {
+  EpaStatus status = EpaStatus::ok;
+  // Signed: > 0 the shapes overlap; <= 0 only when the origin is on or a
+  // hair outside D (GJK's simplex touched it from outside), then -depth is
+  // the separation along `normal`.
+  double depth = 0.0;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitX();  // unit, from A toward B, common frame
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  // witness on A, common frame
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  // point_a - point_b = depth * normal
+  // Certified in exact arithmetic: |true signed depth - depth| <= error_bound.
+  double error_bound = 0.0;
+  int iterations = 0;
+  int dimension = 3;  // affine dimension of D seen: 3, or 0..2 when D is flat (then depth = 0)
+};
+
+namespace epa_detail {
+
+struct Vertex {
+  Eigen::Vector3d w;  // a - b
+  Eigen::Vector3d a;
+  Eigen::Vector3d b;
+};
+
+template <class A, class B>
+Vertex support(const A& a, const B& b, const Eigen::Vector3d& d) {
+  Vertex v;
+  v.a = a.support(d);
+  v.b = b.support(-d);
+  v.w = v.a - v.b;
+  return v;
+}
+
+inline bool finite(const Vertex& v) { return v.w.allFinite() && v.a.allFinite() && v.b.allFinite(); }
+
+// Twice the area vector of triangle p0 p1 p2, from the two edges that meet
+// opposite the longest one (the most accurate pair: the rounding error of
+// e_i x e_j grows with |e_i| |e_j|). All three pairs are the same vector in
+// exact arithmetic.
+inline Eigen::Vector3d area_vector(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) {
+  const Eigen::Vector3d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
+  const double l0 = e0.squaredNorm(), l1 = e1.squaredNorm(), l2 = e2.squaredNorm();
+  if (l0 >= l1 && l0 >= l2) return e1.cross(e2);
+  if (l1 >= l2) return e2.cross(e0);
+  return e0.cross(e1);
+}
+
+// Parameter in [0, 1] of the point of segment p0 p1 closest to x.
+inline double segment_parameter(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& x) {
+  const Eigen::Vector3d e = p1 - p0;
+  const double ee = e.squaredNorm();
+  if (!(ee > 0.0)) return 0.0;
+  return std::clamp((x - p0).dot(e) / ee, 0.0, 1.0);
+}
+
+// Barycentric coordinates (non-negative, summing to 1) of the point of
+// triangle p0 p1 p2 closest to x, in `out`; returns whether x's projection
+// on the triangle's plane lies inside the triangle (then `out` are its exact
+// coordinates). The interior case uses signed areas against the triangle's
+// own normal; outside (or for a degenerate triangle) the nearest of the
+// three clamped edge projections.
+inline bool triangle_barycentric(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                                 const Eigen::Vector3d& x, std::array<double, 3>& out) {
+  const Eigen::Vector3d n = area_vector(p0, p1, p2);
+  const double nn = n.squaredNorm();
+  if (nn > 0.0 && std::isfinite(nn)) {
+    const std::array<double, 3> c = {n.dot((p1 - x).cross(p2 - x)), n.dot((p2 - x).cross(p0 - x)),
+                                     n.dot((p0 - x).cross(p1 - x))};
+    if (c[0] >= 0.0 && c[1] >= 0.0 && c[2] >= 0.0) {
+      const double sum = c[0] + c[1] + c[2];
+      if (sum > 0.0) {
+        out = {c[0] / sum, c[1] / sum, c[2] / sum};
+        return true;
+      }
+    }
+  }
+  const std::array<const Eigen::Vector3d*, 3> p = {&p0, &p1, &p2};
+  out = {1.0, 0.0, 0.0};
+  double best_d2 = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3;
+    const double t = segment_parameter(*p[i], *p[j], x);
+    const double d2 = ((1.0 - t) * *p[i] + t * *p[j] - x).squaredNorm();
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      out = {0.0, 0.0, 0.0};
+      out[i] = 1.0 - t;
+      out[j] = t;
+    }
+  }
+  return false;
+}
+
+struct Face {
+  std::array<int, 3> v;         // vertex indices, counter-clockwise seen from outside
+  std::array<int, 3> adj;       // neighbour across edge i = (v[i], v[i+1])
+  std::array<int, 3> adj_edge;  // index of that edge in the neighbour
+  Eigen::Vector3d n;            // unit outward normal
+  double d;                     // n . x on the face's plane: signed distance from the origin
+  int removed_at;               // iteration that removed it (visibility mark); -1 while unmarked
+  bool live;
+};
+
+struct HorizonEdge {
+  int from, to;    // as seen from the removed side (counter-clockwise)
+  int kept, edge;  // the kept face across the edge and the edge's index in it
+};
+
+// The polytope and the work arrays of one query; lives on the caller's stack.
+// Nothing is initialised up front: every slot is written before it is read.
+struct Polytope {
+  std::array<Vertex, kEpaMaxVertices> vertex;
+  std::array<Face, kEpaMaxFaces> face;
+  std::array<int, kEpaMaxFaces> free_face;  // removed face slots, reused first
+  std::array<int, kEpaMaxFaces> stack;      // the visibility walk
+  std::array<HorizonEdge, kEpaMaxFaces> horizon;
+  std::array<int, kEpaMaxFaces> new_face;     // face created for horizon[i]
+  std::array<int, kEpaMaxVertices> starting;  // horizon edge leaving a vertex
+  int vertex_count = 0;
+  int face_end = 0;  // slots [0, face_end) have been used
+  int free_count = 0;
+
+  // (n, d) of the triangle p0 p1 p2; false when its area is zero or not finite.
+  static bool plane(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, Eigen::Vector3d& n,
+                    double& d) {
+    const Eigen::Vector3d c = area_vector(p0, p1, p2);
+    const double len = c.norm();
+    if (!(len > 0.0) || !std::isfinite(len)) return false;
+    n = c / len;
+    d = (n.dot(p0) + n.dot(p1) + n.dot(p2)) / 3.0;
+    return true;
+  }
+
+  int allocate_face() {
+    if (free_count > 0) return free_face[--free_count];
+    if (face_end < kEpaMaxFaces) return face_end++;
+    return -1;
+  }
+  int available_faces() const { return free_count + (kEpaMaxFaces - face_end); }
+
+  static void link(Face& f, int i, int fid, Face& g, int j, int gid) {
+    f.adj[i] = gid;
+    f.adj_edge[i] = j;
+    g.adj[j] = fid;
+    g.adj_edge[j] = i;
+  }
+
+  // The tetrahedron vertex[0..3]; its signed volume must be positive (the
+  // caller orders the vertices so). Returns false on a degenerate face.
+  bool init_tetrahedron() {
+    static constexpr int kFaces[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+    face_end = 0;
+    free_count = 0;
+    for (int f = 0; f < 4; ++f) {
+      Face& face_f = face[f];
+      face_f.v = {kFaces[f][0], kFaces[f][1], kFaces[f][2]};
+      face_f.live = true;
+      face_f.removed_at = -1;
+      if (!plane(vertex[face_f.v[0]].w, vertex[face_f.v[1]].w, vertex[face_f.v[2]].w, face_f.n, face_f.d)) return false;
+    }
+    face_end = 4;
+    // Each directed edge (p, q) of one face meets (q, p) in exactly one other.
+    for (int f = 0; f < 4; ++f)
+      for (int i = 0; i < 3; ++i)
+        for (int g = f + 1; g < 4; ++g)
+          for (int j = 0; j < 3; ++j)
+            if (face[f].v[i] == face[g].v[(j + 1) % 3] && face[f].v[(i + 1) % 3] == face[g].v[j])
+              link(face[f], i, f, face[g], j, g);
+    return true;
+  }
+
+  int closest_face() const {
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int f = 0; f < face_end; ++f)
+      if (face[f].live && face[f].d < best_d) {
+        best_d = face[f].d;
+        best = f;
+      }
+    return best;
+  }
+
+  enum class Expansion { done, full, invalid };
+
+  // Adds `w` seen from face `start` (which must see it): removes every face
+  // connected to `start` through faces that see w by more than `visible`,
+  // and fans new faces from w to the horizon. Validates first; on failure
+  // the polytope is unchanged.
+  Expansion expand(int start, const Vertex& w, double visible, int stamp) {
+    if (vertex_count >= kEpaMaxVertices) return Expansion::full;
+    const int wid = vertex_count;
+    // 1. The visibility walk (each face is pushed at most once: it is marked
+    //    before it is pushed).
+    int top = 0, removed = 0, horizon_count = 0;
+    face[start].removed_at = stamp;
+    stack[top++] = start;
+    while (top > 0) {
+      const int f = stack[--top];
+      ++removed;
+      for (int i = 0; i < 3; ++i) {
+        const int g = face[f].adj[i];
+        Face& fg = face[g];
+        if (fg.removed_at == stamp) continue;
+        if (fg.n.dot(w.w) - fg.d > visible) {
+          fg.removed_at = stamp;
+          stack[top++] = g;
+        } else {
+          if (horizon_count >= kEpaMaxFaces) return unmark(stamp, Expansion::full);
+          horizon[horizon_count++] = {face[f].v[i], face[f].v[(i + 1) % 3], g, face[f].adj_edge[i]};
+        }
+      }
+    }
+    // 2. Validation: one simple cycle (each horizon vertex starts exactly one
+    //    edge, and following the edges from the first comes back after all
+    //    of them), room for the new faces, no degenerate new face.
+    if (horizon_count < 3) return unmark(stamp, Expansion::invalid);
+    for (int i = 0; i < horizon_count; ++i) starting[horizon[i].from] = starting[horizon[i].to] = -1;
+    for (int i = 0; i < horizon_count; ++i) {
+      if (starting[horizon[i].from] != -1) return unmark(stamp, Expansion::invalid);
+      starting[horizon[i].from] = i;
+    }
+    int at = 0, steps = 0;
+    do {
+      at = starting[horizon[at].to];
+      ++steps;
+    } while (at > 0 && steps <= horizon_count);
+    if (at != 0 || steps != horizon_count) return unmark(stamp, Expansion::invalid);
+    if (available_faces() + removed < horizon_count) return unmark(stamp, Expansion::full);
+    for (int i = 0; i < horizon_count; ++i) {
+      Eigen::Vector3d n;
+      double d;
+      if (!plane(vertex[horizon[i].from].w, vertex[horizon[i].to].w, w.w, n, d))
+        return unmark(stamp, Expansion::invalid);
+    }
+    // 3. Commit: free the removed faces, add the vertex, fan the new faces.
+    for (int f = 0; f < face_end; ++f)
+      if (face[f].live && face[f].removed_at == stamp) {
+        face[f].live = false;
+        free_face[free_count++] = f;
+      }
+    vertex[wid] = w;
+    ++vertex_count;
+    for (int i = 0; i < horizon_count; ++i) {
+      const int id = allocate_face();  // cannot fail: room checked above
+      Face& nf = face[id];
+      nf.v = {horizon[i].from, horizon[i].to, wid};
+      nf.live = true;
+      nf.removed_at = -1;
+      plane(vertex[nf.v[0]].w, vertex[nf.v[1]].w, w.w, nf.n, nf.d);
+      link(nf, 0, id, face[horizon[i].kept], horizon[i].edge, horizon[i].kept);
+      new_face[i] = id;
+    }
+    // Edge 1 (to, w) of each new face meets edge 2 (w, to) of the face that
+    // starts at `to`.
+    for (int i = 0; i < horizon_count; ++i) {
+      const int next = starting[horizon[i].to];
+      link(face[new_face[i]], 1, new_face[i], face[new_face[next]], 2, new_face[next]);
+    }
+    return Expansion::done;
+  }
+
+  Expansion unmark(int stamp, Expansion why) {
+    for (int f = 0; f < face_end; ++f)
+      if (face[f].removed_at == stamp) face[f].removed_at = -1;
+    return why;
+  }
+};
+
+// n or -n, whichever does not point away from `preferred`.
+inline Eigen::Vector3d orient_normal(const Eigen::Vector3d& n, const Eigen::Vector3d& preferred) {
+  return n.dot(preferred) < 0.0 ? Eigen::Vector3d(-n) : n;
+}
+
+// Fills the witnesses of `r` from up to three vertices and their barycentric
+// weights, then moves both points by half the residual so that point_a -
+// point_b = depth * normal holds to rounding. Returns q = sum lambda_i w_i,
+// a point of P (hence of D).
+inline Eigen::Vector3d set_witnesses(EpaResult& r, const Vertex* const* v, const double* lambda, int count) {
+  Eigen::Vector3d pa = Eigen::Vector3d::Zero(), pb = Eigen::Vector3d::Zero(), q = Eigen::Vector3d::Zero();
+  for (int i = 0; i < count; ++i) {
+    pa += lambda[i] * v[i]->a;
+    pb += lambda[i] * v[i]->b;
+    q += lambda[i] * v[i]->w;
+  }
+  const Eigen::Vector3d residual = (pa - pb) - r.depth * r.normal;
+  r.point_a = pa - 0.5 * residual;
+  r.point_b = pb + 0.5 * residual;
+  return q;
+}
+
+// The result for a flat D (dimension 0, 1 or 2, spanned by the first `k`
+// points): q, the point of the simplex nearest the origin, is D's point
+// nearest the origin (up to flat_tolerance). When |q| stands above rounding
+// noise the origin is off D (touching from outside, within GJK's band) and
+// the normal follows -q; otherwise it is D's normal (flat), a perpendicular
+// (segment) or any unit vector (point), oriented toward `preferred`. The
+// signed depth is n . q (<= 0 when the origin is outside).
+inline EpaResult flat_result(const std::array<Vertex, 4>& p, int k, const Eigen::Vector3d& preferred, double noise,
+                             double flat) {
+  EpaResult r;
+  r.dimension = k - 1;
+  std::array<double, 3> lambda = {1.0, 0.0, 0.0};
+  if (k == 2) {
+    const double t = segment_parameter(p[0].w, p[1].w, Eigen::Vector3d::Zero());
+    lambda = {1.0 - t, t, 0.0};
+  } else if (k == 3) {
+    triangle_barycentric(p[0].w, p[1].w, p[2].w, Eigen::Vector3d::Zero(), lambda);
+  }
+  Eigen::Vector3d q = lambda[0] * p[0].w;
+  for (int i = 1; i < k; ++i) q += lambda[i] * p[i].w;
+  Eigen::Vector3d toward = preferred.allFinite() ? preferred : Eigen::Vector3d::Zero();
+  if (q.norm() > noise) toward = -q;
+  Eigen::Vector3d n = Eigen::Vector3d::UnitX();
+  if (k == 1) {
+    if (toward.squaredNorm() > 0.0) n = toward.normalized();
+  } else if (k == 2) {
+    const Eigen::Vector3d e = (p[1].w - p[0].w).normalized();
+    const Eigen::Vector3d perp = toward - toward.dot(e) * e;
+    // Why the threshold: a direction (nearly) along the segment leaves only
+    // rounding as its perpendicular part.
+    n = perp.norm() > 1e-6 * toward.norm() ? Eigen::Vector3d(perp.normalized()) : e.unitOrthogonal();
+  } else {
+    n = orient_normal(area_vector(p[0].w, p[1].w, p[2].w).normalized(), toward);
+  }
+  r.normal = n;
+  r.depth = n.dot(q);
+  const Vertex* v[3] = {&p[0], &p[1], &p[2]};
+  set_witnesses(r, v, lambda.data(), k);
+  // D is within `flat` of the simplex's affine hull and holds q.
+  r.error_bound = std::abs(r.depth - (-q.norm())) + flat;
+  return r;
+}
+
+// Distance from x to the affine hull of the first k points (k = 1, 2, 3).
+inline double affine_distance(const std::array<Vertex, 4>& p, int k, const Eigen::Vector3d& x) {
+  if (k == 1) return (x - p[0].w).norm();
+  if (k == 2) {
+    const Eigen::Vector3d e = p[1].w - p[0].w;
+    const double len = e.norm();
+    return len > 0.0 ? (x - p[0].w).cross(e).norm() / len : (x - p[0].w).norm();
+  }
+  const Eigen::Vector3d n = area_vector(p[0].w, p[1].w, p[2].w);
+  const double len = n.norm();
+  return len > 0.0 ? std::abs(n.dot(x - p[0].w)) / len : affine_distance(p, 2, x);
+}
+
+// Reduces a simplex flatter than `flat` to the sub-simplex nearest the
+// origin (ties: the largest), until every vertex stands at least `flat` off
+// the affine hull of the others.
+inline int reduce_simplex(std::array<Vertex, 4>& p, int k, double flat) {
+  for (int round = 0; round < 4 && k > 1; ++round) {
+    if (k == 4) {
+      const Eigen::Vector3d e1 = p[1].w - p[0].w, e2 = p[2].w - p[0].w, e3 = p[3].w - p[0].w;
+      const double det = e1.dot(e2.cross(e3));
+      bool good = std::isfinite(det) &&
+                  std::abs(det) > 64.0 * std::numeric_limits<double>::epsilon() * e1.norm() * e2.norm() * e3.norm();
+      static constexpr int kOpposite[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+      for (int m = 0; m < 4 && good; ++m) {
+        const Eigen::Vector3d c = area_vector(p[kOpposite[m][0]].w, p[kOpposite[m][1]].w, p[kOpposite[m][2]].w);
+        good = std::abs(det) > flat * c.norm();  // height of vertex m = |det| / |c|
+      }
+      if (good) return 4;
+      int best = 0;
+      double best_d2 = std::numeric_limits<double>::infinity(), best_area = -1.0;
+      for (int m = 0; m < 4; ++m) {
+        const Vertex& q0 = p[kOpposite[m][0]];
+        const Vertex& q1 = p[kOpposite[m][1]];
+        const Vertex& q2 = p[kOpposite[m][2]];
+        std::array<double, 3> l;
+        triangle_barycentric(q0.w, q1.w, q2.w, Eigen::Vector3d::Zero(), l);
+        const double d2 = (l[0] * q0.w + l[1] * q1.w + l[2] * q2.w).squaredNorm();
+        const double area = area_vector(q0.w, q1.w, q2.w).norm();
+        if (d2 < best_d2 - flat * flat || (d2 <= best_d2 + flat * flat && area > best_area)) {
+          best = m;
+          best_d2 = std::min(best_d2, d2);
+          best_area = area;
+        }
+      }
+      const std::array<Vertex, 4> old = p;
+      for (int i = 0; i < 3; ++i) p[i] = old[kOpposite[best][i]];
+      k = 3;
+    } else if (k == 3) {
+      const Eigen::Vector3d c = area_vector(p[0].w, p[1].w, p[2].w);
+      const double longest = std::max({(p[1].w - p[0].w).norm(), (p[2].w - p[1].w).norm(), (p[0].w - p[2].w).norm()});
+      if (std::isfinite(c.norm()) && c.norm() > flat * longest &&
+          c.norm() > 64.0 * std::numeric_limits<double>::epsilon() * longest * longest)
+        return 3;
+      int best = 0;
+      double best_d2 = std::numeric_limits<double>::infinity(), best_len = -1.0;
+      for (int m = 0; m < 3; ++m) {
+        const Vertex& q0 = p[m];
+        const Vertex& q1 = p[(m + 1) % 3];
+        const double t = segment_parameter(q0.w, q1.w, Eigen::Vector3d::Zero());
+        const double d2 = ((1.0 - t) * q0.w + t * q1.w).squaredNorm();
+        const double len = (q1.w - q0.w).norm();
+        if (d2 < best_d2 - flat * flat || (d2 <= best_d2 + flat * flat && len > best_len)) {
+          best = m;
+          best_d2 = std::min(best_d2, d2);
+          best_len = len;
+        }
+      }
+      const std::array<Vertex, 4> old = p;
+      p[0] = old[best];
+      p[1] = old[(best + 1) % 3];
+      k = 2;
+    } else {  // k == 2
+      if ((p[1].w - p[0].w).norm() > flat) return 2;
+      if (p[1].w.squaredNorm() < p[0].w.squaredNorm()) p[0] = p[1];
+      k = 1;
+    }
+  }
+  return k;
+}
+
+}  // namespace epa_detail
+
+// Penetration depth of A and B (support types in one common frame) whose
+// overlap (or touching) GJK has established: `simplex` is GJK's final simplex
+// (its hull contains or touches the origin), `scale` the shapes' size,
+// `preferred` a direction from A toward B used only to orient the normal of
+// a flat D (e.g. B's centre minus A's).
+template <class A, class B>
+EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, double scale,
+                          const Eigen::Vector3d& preferred, const EpaSettings& settings = {}) {
+  using epa_detail::Vertex;
+  EpaResult r;
+  const double size = std::isfinite(scale) && scale > 0.0 ? scale : 0.0;
+  const double flat = settings.flat_tolerance * size;
+  const double abs_tolerance = settings.absolute_tolerance * size;
+  const double visible = 1e-3 * abs_tolerance;
+  const double noise = 64.0 * std::numeric_limits<double>::epsilon() * size;
+
+  // ---- 1. a tetrahedron from GJK's simplex -------------------------------
+  std::array<Vertex, 4> p;
+  int k = std::clamp(simplex.size, 0, 4);
+  for (int i = 0; i < k; ++i) p[i] = {simplex.w[i], simplex.a[i], simplex.b[i]};
+  for (int i = 0; i < k; ++i)
+    if (!epa_detail::finite(p[i])) k = 0;
+  if (k == 0) {
+    // Why: GJK failed before the loop (non-finite input); nothing to expand.
+    r.status = EpaStatus::degenerate;
+    return r;
+  }
+  k = epa_detail::reduce_simplex(p, k, flat);
+  // Grow along the simplex's degenerate directions: the first candidate that
+  // stands comfortably off the affine hull (1e-3 of the size) is taken,
+  // otherwise the farthest of all if it beats `flat`.
+  while (k < 4) {
+    std::array<Eigen::Vector3d, 8> dirs;
+    int count = 0;
+    if (k == 1) {
+      for (int axis = 0; axis < 3; ++axis) {
+        dirs[count++] = Eigen::Vector3d::Unit(axis);
+        dirs[count++] = -Eigen::Vector3d::Unit(axis);
+      }
+    } else if (k == 2) {
+      const Eigen::Vector3d e = (p[1].w - p[0].w).normalized();
+      const Eigen::Vector3d u = e.unitOrthogonal(), v = e.cross(u);
+      for (const Eigen::Vector3d& d :
+           {u, v, Eigen::Vector3d((u + v).normalized()), Eigen::Vector3d((u - v).normalized())}) {
+        dirs[count++] = d;
+        dirs[count++] = -d;
+      }
+    } else {
+      const Eigen::Vector3d n = epa_detail::area_vector(p[0].w, p[1].w, p[2].w).normalized();
+      dirs[count++] = n;
+      dirs[count++] = -n;
+    }
+    Vertex best = p[0];
+    double best_height = -1.0;
+    for (int i = 0; i < count; ++i) {
+      const Vertex s = epa_detail::support(a, b, dirs[i]);
+      if (!epa_detail::finite(s)) {
+        r.status = EpaStatus::degenerate;
+        return r;
+      }
+      const double height = epa_detail::affine_distance(p, k, s.w);
+      if (height > best_height) {
+        best_height = height;
+        best = s;
+      }
+      if (best_height > 1e-3 * size) break;
+    }
+    if (!(best_height > flat)) return epa_detail::flat_result(p, k, preferred, noise, flat);
+    p[k++] = best;
+  }
+  epa_detail::Polytope poly;
+  {
+    const double det = (p[1].w - p[0].w).dot((p[2].w - p[0].w).cross(p[3].w - p[0].w));
+    if (det < 0.0) std::swap(p[1], p[2]);
+    for (int i = 0; i < 4; ++i) poly.vertex[i] = p[i];
+    poly.vertex_count = 4;
+    if (!poly.init_tetrahedron()) {
+      // Unreachable after reduce_simplex (every face has area), kept as a
+      // guard: report the flat answer rather than divide by zero.
+      return epa_detail::flat_result(p, 3, preferred, noise, flat);
+    }
+  }
+
+  // ---- 2. expansion -------------------------------------------------------
+  double upper = std::numeric_limits<double>::infinity();
+  int best = poly.closest_face();
+  for (;;) {
+    best = poly.closest_face();
+    const epa_detail::Face& f = poly.face[best];
+    if (r.iterations >= settings.max_iterations) {
+      r.status = EpaStatus::max_iterations;
+      break;
+    }
+    ++r.iterations;
+    const Vertex s = epa_detail::support(a, b, f.n);
+    if (!epa_detail::finite(s)) {
+      // Why: a support mapping returned NaN/inf (corrupt shape or pose).
+      r.status = EpaStatus::degenerate;
+      break;
+    }
+    const double h = f.n.dot(s.w);
+    upper = std::min(upper, h);
+    if (h - f.d <= std::max(settings.relative_tolerance * std::max(f.d, 0.0), abs_tolerance)) break;
+    bool duplicate = false;
+    for (int i = 0; i < poly.vertex_count && !duplicate; ++i) duplicate = poly.vertex[i].w == s.w;
+    if (duplicate) {
+      // Why: a vertex of P beyond one of P's supporting planes by more than
+      // the tolerance means rounding made P non-convex; adding it again
+      // would make a zero-area face.
+      r.status = EpaStatus::stalled;
+      break;
+    }
+    const auto expansion = poly.expand(best, s, visible, r.iterations);
+    if (expansion == epa_detail::Polytope::Expansion::full) {
+      r.status = EpaStatus::polytope_full;
+      break;
+    }
+    if (expansion == epa_detail::Polytope::Expansion::invalid) {
+      r.status = EpaStatus::stalled;
+      break;
+    }
+  }
+
+  // ---- 3. the answer from the closest face --------------------------------
+  // The projection d n of the origin normally lies in the closest face; when
+  // it falls just outside (in a coplanar neighbour of a triangulated face of
+  // D), a face within the tolerance band whose own projection is interior
+  // gives the same plane with exact witnesses and a tight bound.
+  std::array<double, 3> lambda;
+  const epa_detail::Face* chosen = &poly.face[best];
+  if (!epa_detail::triangle_barycentric(poly.vertex[chosen->v[0]].w, poly.vertex[chosen->v[1]].w,
+                                        poly.vertex[chosen->v[2]].w, chosen->d * chosen->n, lambda)) {
+    const double band = chosen->d + std::max(settings.relative_tolerance * std::abs(chosen->d), abs_tolerance);
+    for (int g = 0; g < poly.face_end; ++g) {
+      const epa_detail::Face& fg = poly.face[g];
+      std::array<double, 3> lg;
+      if (!fg.live || g == best || fg.d > band) continue;
+      if (epa_detail::triangle_barycentric(poly.vertex[fg.v[0]].w, poly.vertex[fg.v[1]].w, poly.vertex[fg.v[2]].w,
+                                           fg.d * fg.n, lg)) {
+        chosen = &fg;
+        lambda = lg;
+        break;
+      }
+    }
+  }
+  const epa_detail::Face& f = *chosen;
+  r.depth = f.d;
+  r.normal = f.n;
+  const Vertex* v[3] = {&poly.vertex[f.v[0]], &poly.vertex[f.v[1]], &poly.vertex[f.v[2]]};
+  const Eigen::Vector3d q = epa_detail::set_witnesses(r, v, lambda.data(), 3);
+  // Bounds on the true signed depth D* (exact arithmetic): D* <= upper (a
+  // support value); if the closest plane has d >= 0 every face does, the
+  // origin is inside P and D* >= d; otherwise q, a point of P (so of D), is
+  // |q| from the origin and D* >= -|q|.
+  const double closest_d = poly.face[best].d;
+  const double lower = closest_d >= 0.0 ? closest_d : -q.norm();
+  r.error_bound = std::isfinite(upper) ? std::max({upper - f.d, f.d - lower, 0.0}) : std::abs(f.d) + q.norm();
+  if (r.status == EpaStatus::degenerate) r.error_bound = std::numeric_limits<double>::max();
+  return r;
+}
+
+}  // namespace hedra::collision
