@@ -646,7 +646,7 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
   // costs (large offsets), and the slack merging leaves (a merged face is
   // planar within a few eps).
   const double world = 3 * kDblEps * (centre.cwiseAbs().sum() + max_abs.sum());
-  const double mesh_tolerance = 4 * eps + 4 * world;
+  const double mesh_tolerance = 8 * eps + 4 * world;
 
   // Initial simplex.
   Index extreme[6];
