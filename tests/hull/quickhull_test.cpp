@@ -391,7 +391,10 @@ TEST(QuickhullDegenerate, NearlyCoplanarSliversAreValidAndContainEveryPoint) {
   std::size_t solid = 0;
   for (double thickness : {1e-9, 1e-12, 1e-15, 1e-17}) {
     for (std::uint64_t seed = 0; seed < 10; ++seed) {
-      SCOPED_TRACE("thickness " + std::to_string(thickness) + ", seed " + std::to_string(seed));
+      char label[96];
+      std::snprintf(label, sizeof label, "NearlyCoplanarSlivers thickness %g seed %llu", thickness,
+                    static_cast<unsigned long long>(seed));
+      SCOPED_TRACE(label);
       Rng rng(seed);
       const Eigen::Matrix3d rot = rng.rotation();
       // The origin stays within the size so that rounding of the input stays
