@@ -221,8 +221,10 @@ struct Face {
 };
 
 struct HorizonEdge {
-  int from, to;    // as seen from the removed side (counter-clockwise)
-  int kept, edge;  // the kept face across the edge and the edge's index in it
+  int from, to;       // as seen from the removed side (counter-clockwise)
+  int kept, edge;     // the kept face across the edge and the edge's index in it
+  Eigen::Vector3d n;  // plane of the new face (from, to, w), computed while validating
+  double d;
 };
 
 // The polytope and the work arrays of one query; lives on the caller's stack.
@@ -231,7 +233,7 @@ struct Polytope {
   std::array<Vertex, kEpaMaxVertices> vertex;
   std::array<Face, kEpaMaxFaces> face;
   std::array<int, kEpaMaxFaces> free_face;  // removed face slots, reused first
-  std::array<int, kEpaMaxFaces> stack;      // the visibility walk
+  std::array<int, kEpaMaxFaces> removed;    // faces that see w, in visit order
   std::array<HorizonEdge, kEpaMaxFaces> horizon;
   std::array<int, kEpaMaxFaces> new_face;     // face created for horizon[i]
   std::array<int, kEpaMaxVertices> starting;  // horizon edge leaving a vertex
@@ -308,34 +310,38 @@ struct Polytope {
   Expansion expand(int start, const Vertex& w, double visible, int stamp) {
     if (vertex_count >= kEpaMaxVertices) return Expansion::full;
     const int wid = vertex_count;
-    // 1. The visibility walk (each face is pushed at most once: it is marked
-    //    before it is pushed).
-    int top = 0, removed = 0, horizon_count = 0;
+    // 1. The visibility walk, breadth first: `removed` is the queue and, at
+    //    the end, the list of faces that see w (each face enters it at most
+    //    once: it is marked when it enters).
+    int removed_count = 0, horizon_count = 0;
     face[start].removed_at = stamp;
-    stack[top++] = start;
-    while (top > 0) {
-      const int f = stack[--top];
-      ++removed;
+    removed[removed_count++] = start;
+    for (int next = 0; next < removed_count; ++next) {
+      const int f = removed[next];
       for (int i = 0; i < 3; ++i) {
         const int g = face[f].adj[i];
         Face& fg = face[g];
         if (fg.removed_at == stamp) continue;
         if (fg.n.dot(w.w) - fg.d > visible) {
           fg.removed_at = stamp;
-          stack[top++] = g;
+          removed[removed_count++] = g;
         } else {
-          if (horizon_count >= kEpaMaxFaces) return unmark(stamp, Expansion::full);
-          horizon[horizon_count++] = {face[f].v[i], face[f].v[(i + 1) % 3], g, face[f].adj_edge[i]};
+          if (horizon_count >= kEpaMaxFaces) return unmark(removed_count, Expansion::full);
+          HorizonEdge& e = horizon[horizon_count++];
+          e.from = face[f].v[i];
+          e.to = face[f].v[(i + 1) % 3];
+          e.kept = g;
+          e.edge = face[f].adj_edge[i];
         }
       }
     }
     // 2. Validation: one simple cycle (each horizon vertex starts exactly one
     //    edge, and following the edges from the first comes back after all
     //    of them), room for the new faces, no degenerate new face.
-    if (horizon_count < 3) return unmark(stamp, Expansion::invalid);
+    if (horizon_count < 3) return unmark(removed_count, Expansion::invalid);
     for (int i = 0; i < horizon_count; ++i) starting[horizon[i].from] = starting[horizon[i].to] = -1;
     for (int i = 0; i < horizon_count; ++i) {
-      if (starting[horizon[i].from] != -1) return unmark(stamp, Expansion::invalid);
+      if (starting[horizon[i].from] != -1) return unmark(removed_count, Expansion::invalid);
       starting[horizon[i].from] = i;
     }
     int at = 0, steps = 0;
@@ -343,30 +349,29 @@ struct Polytope {
       at = starting[horizon[at].to];
       ++steps;
     } while (at > 0 && steps <= horizon_count);
-    if (at != 0 || steps != horizon_count) return unmark(stamp, Expansion::invalid);
-    if (available_faces() + removed < horizon_count) return unmark(stamp, Expansion::full);
+    if (at != 0 || steps != horizon_count) return unmark(removed_count, Expansion::invalid);
+    if (available_faces() + removed_count < horizon_count) return unmark(removed_count, Expansion::full);
     for (int i = 0; i < horizon_count; ++i) {
-      Eigen::Vector3d n;
-      double d;
-      if (!plane(vertex[horizon[i].from].w, vertex[horizon[i].to].w, w.w, n, d))
-        return unmark(stamp, Expansion::invalid);
+      HorizonEdge& e = horizon[i];
+      if (!plane(vertex[e.from].w, vertex[e.to].w, w.w, e.n, e.d)) return unmark(removed_count, Expansion::invalid);
     }
     // 3. Commit: free the removed faces, add the vertex, fan the new faces.
-    for (int f = 0; f < face_end; ++f)
-      if (face[f].live && face[f].removed_at == stamp) {
-        face[f].live = false;
-        free_face[free_count++] = f;
-      }
+    for (int k = 0; k < removed_count; ++k) {
+      face[removed[k]].live = false;
+      free_face[free_count++] = removed[k];
+    }
     vertex[wid] = w;
     ++vertex_count;
     for (int i = 0; i < horizon_count; ++i) {
+      const HorizonEdge& e = horizon[i];
       const int id = allocate_face();  // cannot fail: room checked above
       Face& nf = face[id];
-      nf.v = {horizon[i].from, horizon[i].to, wid};
+      nf.v = {e.from, e.to, wid};
+      nf.n = e.n;
+      nf.d = e.d;
       nf.live = true;
       nf.removed_at = -1;
-      plane(vertex[nf.v[0]].w, vertex[nf.v[1]].w, w.w, nf.n, nf.d);
-      link(nf, 0, id, face[horizon[i].kept], horizon[i].edge, horizon[i].kept);
+      link(nf, 0, id, face[e.kept], e.edge, e.kept);
       new_face[i] = id;
     }
     // Edge 1 (to, w) of each new face meets edge 2 (w, to) of the face that
@@ -378,9 +383,9 @@ struct Polytope {
     return Expansion::done;
   }
 
-  Expansion unmark(int stamp, Expansion why) {
-    for (int f = 0; f < face_end; ++f)
-      if (face[f].removed_at == stamp) face[f].removed_at = -1;
+  // Undoes the marks of a rejected expansion.
+  Expansion unmark(int removed_count, Expansion why) {
+    for (int k = 0; k < removed_count; ++k) face[removed[k]].removed_at = -1;
     return why;
   }
 };
