@@ -25,6 +25,13 @@
 // The answer is f's plane: depth d, normal n; the witness points are the
 // barycentric combination, with the coordinates of the origin's projection
 // d n on f, of the A and B support points stored with f's vertices.
+// An exit before convergence (iteration cap, full polytope, stalled)
+// reports instead the direction with the smallest support value seen:
+// depth = that value, a translation of B that certainly separates (d would
+// leave the shapes overlapping), within error_bound of the true depth. Where
+// the depth is nearly constant over many directions (a deep near-sphere, a
+// ball centred on a cylinder's axis) the lower bound d creeps up with the
+// polytope's resolution while the support values are already nearly exact.
 //
 // Start. EPA begins from the simplex GJK ended with (1 to 4 points whose hull
 // contains the origin, up to GJK's zero threshold). A simplex flatter than
@@ -622,7 +629,11 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
   }
 
   // ---- 2. expansion -------------------------------------------------------
+  // The smallest support value seen, its direction and support point: an
+  // upper bound on the depth, and a valid separating translation.
   double upper = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d upper_n = Eigen::Vector3d::UnitX();
+  Vertex upper_s = poly.vertex[0];
   int best = poly.closest_face();
   for (;;) {
     best = poly.closest_face();
@@ -639,7 +650,11 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
       break;
     }
     const double h = f.n.dot(s.w);
-    upper = std::min(upper, h);
+    if (h < upper) {
+      upper = h;
+      upper_n = f.n;
+      upper_s = s;
+    }
     if (h - f.d <= std::max(settings.relative_tolerance * std::max(f.d, 0.0), abs_tolerance)) break;
     bool duplicate = false;
     for (int i = 0; i < poly.vertex_count && !duplicate; ++i) duplicate = poly.vertex[i].w == s.w;
@@ -694,8 +709,28 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
   // |q| from the origin and D* >= -|q|.
   const double closest_d = poly.face[best].d;
   const double lower = closest_d >= 0.0 ? closest_d : -q.norm();
-  r.error_bound = std::isfinite(upper) ? std::max({upper - f.d, f.d - lower, 0.0}) : std::abs(f.d) + q.norm();
-  if (r.status == EpaStatus::degenerate) r.error_bound = std::numeric_limits<double>::max();
+  if (!std::isfinite(upper)) {
+    // No support value yet (max_iterations = 0): the face answer, no bound.
+    r.error_bound = std::numeric_limits<double>::max();
+  } else if (r.status == EpaStatus::ok) {
+    r.error_bound = std::max({upper - f.d, f.d - lower, 0.0});
+  } else if (r.status != EpaStatus::degenerate) {
+    // Not converged (cap, full, stalled): the face plane d is only a lower
+    // bound, and moving B by d n would leave the shapes overlapping. The
+    // best support direction is a valid separating translation, and where
+    // the depth is nearly the same over many directions (a deep ball, a
+    // centre on a cylinder's axis: EPA's slow cases) it is by far the
+    // better estimate: report it. Witnesses: the support points, moved
+    // apart along the supporting planes by half their lateral offset each.
+    r.depth = upper;
+    r.normal = upper_n;
+    const Eigen::Vector3d lateral = upper_s.w - upper * upper_n;
+    r.point_a = upper_s.a - 0.5 * lateral;
+    r.point_b = upper_s.b + 0.5 * lateral;
+    r.error_bound = std::max(upper - lower, 0.0);
+  } else {
+    r.error_bound = std::numeric_limits<double>::max();
+  }
   return r;
 }
 
