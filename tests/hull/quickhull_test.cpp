@@ -214,13 +214,26 @@ TEST(QuickhullCases, ExplicitToleranceIsUsed) {
   expect_counts(r, 8, 12, 6, points);
 }
 
-// quickhull.hpp documents QuickhullResult::tolerance as "the eps used (also
-// mesh.tolerance())".
-TEST(QuickhullCases, ResultToleranceIsAlsoTheMeshTolerance) {
-  const Points points = icosahedron();
-  const QuickhullResult r = hull_of(points);
-  ASSERT_TRUE(r.ok()) << r.error;
-  EXPECT_EQ(r.mesh.tolerance(), r.tolerance);
+// quickhull.hpp documents the output tolerance the mesh carries:
+// mesh.tolerance() = 8 eps + 12 DBL_EPSILON per unit of |coordinate|, the
+// latter being the bounding-box centre's and the recentred extent's 1-norms.
+TEST(QuickhullCases, MeshToleranceIsTheDocumentedOutputTolerance) {
+  for (const Eigen::Vector3d& offset : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1e3, -2e3, 5e2)}) {
+    Points points = icosahedron();
+    for (auto& p : points) p += offset;
+    const QuickhullResult r = hull_of(points);
+    ASSERT_TRUE(r.ok()) << r.error;
+    Eigen::Vector3d lo = points[0];
+    Eigen::Vector3d hi = points[0];
+    for (const auto& p : points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const Eigen::Vector3d centre = 0.5 * (lo + hi);
+    const double extent = (0.5 * (hi - lo)).sum();
+    const double expected = 8 * r.tolerance + 12 * DBL_EPSILON * (centre.cwiseAbs().sum() + extent);
+    EXPECT_NEAR(r.mesh.tolerance(), expected, 1e-12 * expected) << "offset " << offset.transpose();
+  }
 }
 
 TEST(QuickhullCases, IterationCapIsReportedAndLeavesAValidPartialHull) {

@@ -427,8 +427,11 @@ inline std::string soundness_problem(const hull::QuickhullResult& r, const std::
   const double limit = kOutsideFactor * r.tolerance;
   const Farthest mine = farthest_outside(r.mesh, points);
   if (mine.distance > limit) {
-    std::snprintf(buf, sizeof buf, "point %zu is %.17g outside = %.3g tolerances (limit %g, own check)", mine.index,
-                  mine.distance, mine.distance / r.tolerance, kOutsideFactor);
+    std::snprintf(buf, sizeof buf,
+                  "point %zu is %.17g outside = %.3g tolerances (limit %g, own check; %s mesh.tolerance() = %.3g "
+                  "tolerances, the documented guarantee)",
+                  mine.index, mine.distance, mine.distance / r.tolerance, kOutsideFactor,
+                  mine.distance > r.mesh.tolerance() ? "BEYOND" : "within", r.mesh.tolerance() / r.tolerance);
     return buf;
   }
   const double reported = hull::max_outside_distance(r.mesh, points);
