@@ -82,6 +82,10 @@ struct QuickhullBuilder::Impl {
   std::vector<Index> discarded;
   std::vector<Index> ring;         // a face's vertices, for plane fitting
   bool collapsed = false;          // a merge found the solid flattened (see absorb)
+  std::vector<double> height;      // per face: distance of an interior point behind it
+  std::vector<Index> stack_faces;  // face walks
+  std::vector<Index> face_stamp;   // per face: last walk that visited it
+  Index face_round = 0;
   std::vector<Index> point_stamp;  // per point, for horizon checks and compaction
   Index stamp = 0;
   struct Frame {
@@ -545,21 +549,144 @@ struct QuickhullBuilder::Impl {
   // Cheap (proportional to the iteration's work); a failure means merging met
   // a flattened solid, and the attempt is abandoned.
   bool new_faces_sound() const {
-    for (Index f : new_faces) {
-      if (faces[f].mark != Mark::alive) continue;
+    auto cycle_ok = [&](Index f) {
       Index e = faces[f].edge;
       std::size_t n = 0;
       do {
         const WorkEdge& h = edges[e];
         if (h.face != f || edges[h.next].prev != e || edges[h.twin].twin != e ||
-            faces[edges[h.twin].face].mark != Mark::alive || edges[h.next].origin != edges[h.twin].origin)
+            faces[edges[h.twin].face].mark != Mark::alive || edges[h.next].origin != edges[h.twin].origin ||
+            h.origin == edges[h.twin].origin)
           return false;
         e = h.next;
         if (++n > edges.size()) return false;
       } while (e != faces[f].edge);
-      if (n < 3) return false;
+      return n >= 3;
+    };
+    for (Index f : new_faces) {
+      if (faces[f].mark != Mark::alive) continue;
+      if (!cycle_ok(f)) return false;
+      // Their neighbours too: merging edits the faces around the cone.
+      Index e = faces[f].edge;
+      do {
+        if (!cycle_ok(edges[edges[e].twin].face)) return false;
+        e = edges[e].next;
+      } while (e != faces[f].edge);
     }
     return true;
+  }
+
+  // Puts every point that is not a vertex and lies more than eps in front of
+  // a face of the current hull on the conflict list of the face it is
+  // farthest in front of; returns how many. The face is found as in
+  // max_outside_distance(): hill-climbing to the face the ray from an
+  // interior point c through p leaves by (exact: it maximises a linear
+  // function over the polar dual), then a walk over the connected patch of
+  // faces that see p. Points inside the inscribed sphere around c are skipped.
+  std::size_t reinsert_outside_points(std::size_t n) {
+    ++stamp;
+    Vec3 c = Vec3::Zero();
+    double count = 0;
+    Index start = kInvalidIndex;
+    for (Index f = 0; f < faces.size(); ++f) {
+      if (faces[f].mark != Mark::alive) continue;
+      c += faces[f].centroid, count += 1, start = f;
+      Index e = faces[f].edge;
+      std::size_t guard = 0;
+      do {
+        point_stamp[edges[e].origin] = stamp;
+        e = edges[e].next;
+      } while (e != faces[f].edge && ++guard <= edges.size());
+    }
+    if (start == kInvalidIndex) return 0;
+    c /= count;
+    height.assign(faces.size(), 0.0);
+    double inner = std::numeric_limits<double>::infinity();
+    for (Index f = 0; f < faces.size(); ++f) {
+      if (faces[f].mark != Mark::alive) continue;
+      height[f] = -faces[f].distance(c);
+      if (!(height[f] > 0)) return 0;  // c not strictly inside: nothing to climb on (never for a solid)
+      inner = std::min(inner, height[f]);
+    }
+    std::size_t reinserted = 0;
+    Index face = start;
+    for (Index i = 0; i < n; ++i) {
+      if (point_stamp[i] == stamp) continue;  // a vertex
+      const Vec3 rel = pts[i] - c;
+      if (rel.norm() < inner) continue;
+      double gf = faces[face].normal.dot(rel) / height[face];
+      for (std::size_t step = 0; step <= faces.size(); ++step) {
+        Index best = face;
+        double best_g = gf;
+        Index e = faces[face].edge;
+        std::size_t guard = 0;
+        do {
+          const Index nb = edges[edges[e].twin].face;
+          const double gn = faces[nb].normal.dot(rel) / height[nb];
+          if (gn > best_g) best_g = gn, best = nb;
+          e = edges[e].next;
+        } while (e != faces[face].edge && ++guard <= edges.size());
+        if (best == face) break;
+        face = best, gf = best_g;
+      }
+      if (faces[face].distance(pts[i]) <= eps) continue;
+      // The farthest face in the patch that sees the point.
+      Index best = face;
+      double best_d = faces[face].distance(pts[i]);
+      stack_faces.assign(1, face);
+      face_stamp.resize(faces.size(), 0);
+      ++face_round;
+      face_stamp[face] = face_round;
+      for (std::size_t guard = 0; !stack_faces.empty() && guard <= faces.size(); ++guard) {
+        const Index f = stack_faces.back();
+        stack_faces.pop_back();
+        Index e = faces[f].edge;
+        std::size_t g2 = 0;
+        do {
+          const Index nb = edges[edges[e].twin].face;
+          if (face_stamp[nb] != face_round) {
+            face_stamp[nb] = face_round;
+            const double d = faces[nb].distance(pts[i]);
+            if (d > 0) {
+              stack_faces.push_back(nb);
+              if (d > best_d) best_d = d, best = nb;
+            }
+          }
+          e = edges[e].next;
+        } while (e != faces[f].edge && ++g2 <= edges.size());
+      }
+      push_conflict(best, i);
+      ++reinserted;
+    }
+    return reinserted;
+  }
+
+  // O(E) check of the whole structure before it is compacted: every live
+  // face's cycle closes with >= 3 edges whose links agree, no edge is a loop,
+  // and V - E + F = 2 (which also rules out pinched, non-manifold vertices).
+  bool structure_is_sound() {
+    ++stamp;
+    std::size_t v = 0, h = 0, f_count = 0;
+    for (Index f = 0; f < faces.size(); ++f) {
+      if (faces[f].mark != Mark::alive) continue;
+      ++f_count;
+      Index e = faces[f].edge;
+      std::size_t n = 0;
+      do {
+        const WorkEdge& w = edges[e];
+        if (w.face != f || edges[w.next].prev != e || edges[w.twin].twin != e || w.twin == e ||
+            faces[edges[w.twin].face].mark != Mark::alive || edges[w.next].origin != edges[w.twin].origin ||
+            w.origin == edges[w.twin].origin)
+          return false;
+        if (point_stamp[w.origin] != stamp) point_stamp[w.origin] = stamp, ++v;
+        e = w.next;
+        if (++n > edges.size()) return false;
+      } while (e != faces[f].edge);
+      if (n < 3) return false;
+      h += n;
+    }
+    return h % 2 == 0 &&
+           static_cast<long long>(v) - static_cast<long long>(h / 2) + static_cast<long long>(f_count) == 2;
   }
 
   // O(E) check of what merging can get wrong: every face planar within tol,
@@ -747,51 +874,82 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
     if (best_face != kInvalidIndex) push_conflict(best_face, i);
   }
 
-  const std::size_t cap = options.max_iterations > 0 ? options.max_iterations : n;
-  std::size_t skipped = 0;
-  for (Index cursor = 0; cursor < faces.size() && !collapsed;) {
-    WorkFace& face = faces[cursor];
-    if (face.mark != Mark::alive || face.conflict == kInvalidIndex) {
-      ++cursor;
-      continue;
+  // Merging tilts planes, so a point dropped as inside (within eps of the
+  // faces it was tested against) can end up farther out than eps. After the
+  // main loop, every non-vertex point is checked against the final hull and
+  // the ones outside by more than eps go back to conflict lists for another
+  // round; a few rounds settle it, otherwise the attempt fails and the retry
+  // uses a larger eps. The cap counts every point added, over all rounds.
+  const std::size_t cap = options.max_iterations > 0 ? options.max_iterations : 4 * n + 4;
+  constexpr int kRounds = 4;
+  for (int round = 0;; ++round) {
+    for (Index cursor = 0; cursor < faces.size() && !collapsed;) {
+      WorkFace& face = faces[cursor];
+      if (face.mark != Mark::alive || face.conflict == kInvalidIndex) {
+        ++cursor;
+        continue;
+      }
+      if (r.iterations >= cap) {
+        r.status = QuickhullStatus::iteration_limit;
+        r.error = "iteration cap of " + std::to_string(cap) + " reached";
+        break;
+      }
+      // The eye: the farthest conflict point of this face; unlink it.
+      Index eye = kInvalidIndex, eye_prev = kInvalidIndex, prev = kInvalidIndex;
+      double eye_distance = -std::numeric_limits<double>::infinity();
+      for (Index p = face.conflict; p != kInvalidIndex; prev = p, p = conflict_next[p]) {
+        const double d = face.distance(pts[p]);
+        if (d > eye_distance) eye_distance = d, eye = p, eye_prev = prev;
+      }
+      if (eye_prev == kInvalidIndex)
+        face.conflict = conflict_next[eye];
+      else
+        conflict_next[eye_prev] = conflict_next[eye];
+      ++r.iterations;
+      if (eye_distance <= eps) continue;  // the face moved in a merge; the point is on the hull now
+      {
+        // A (near-)duplicate of a vertex of its face lies just above the faces
+        // around that vertex: it is on the hull already.
+        bool duplicate = false;
+        Index e = face.edge;
+        std::size_t guard = 0;
+        do {
+          duplicate = (pts[edges[e].origin] - pts[eye]).squaredNorm() <= eps * eps;
+          e = edges[e].next;
+        } while (!duplicate && e != face.edge && ++guard <= edges.size());
+        if (duplicate) continue;
+      }
+      find_horizon(eye, cursor);
+      if (!horizon_is_simple()) {
+        // Visibility inconsistent within eps (nearly coplanar faces seen
+        // edge-on): no cone can be built without breaking the structure or
+        // leaving the point out. Give up this attempt; the retry's larger eps
+        // merges those faces.
+        for (Index f : visible) faces[f].mark = Mark::alive;
+        collapsed = true;
+        break;
+      }
+      add_point(eye);
+      if (!collapsed && !new_faces_sound()) collapsed = true;
+#ifdef HEDRA_QUICKHULL_DEBUG
+      // Debugging aid: the full O(E) check after every iteration, reporting
+      // the first iteration that leaves the structure inconsistent.
+      const std::string problem = collapsed ? std::string() : check_structure();
+      if (!problem.empty()) {
+        std::fprintf(stderr, "quickhull: after adding point %u: %s\n", eye, problem.c_str());
+        collapsed = true;
+      }
+#endif
     }
-    if (r.iterations >= cap) {
-      r.status = QuickhullStatus::iteration_limit;
-      r.error = "iteration cap of " + std::to_string(cap) + " reached";
+    if (collapsed || r.status != QuickhullStatus::ok) break;
+    const std::size_t outside = reinsert_outside_points(n);
+    if (outside == 0) break;
+    if (round + 1 == kRounds) {
+      collapsed = true;
+      r.error = std::to_string(outside) + " points still outside after " + std::to_string(kRounds) + " rounds";
       break;
     }
-    // The eye: the farthest conflict point of this face; unlink it.
-    Index eye = kInvalidIndex, eye_prev = kInvalidIndex, prev = kInvalidIndex;
-    double eye_distance = -std::numeric_limits<double>::infinity();
-    for (Index p = face.conflict; p != kInvalidIndex; prev = p, p = conflict_next[p]) {
-      const double d = face.distance(pts[p]);
-      if (d > eye_distance) eye_distance = d, eye = p, eye_prev = prev;
-    }
-    if (eye_prev == kInvalidIndex)
-      face.conflict = conflict_next[eye];
-    else
-      conflict_next[eye_prev] = conflict_next[eye];
-    ++r.iterations;
-    if (eye_distance <= eps) continue;  // the face moved in a merge; the point is on the hull now
-    find_horizon(eye, cursor);
-    if (!horizon_is_simple()) {
-      // Inconsistent visibility within tolerance: leave the point out rather
-      // than break the structure (reported through max_outside_distance).
-      for (Index f : visible) faces[f].mark = Mark::alive;
-      ++skipped;
-      continue;
-    }
-    add_point(eye);
-    if (!collapsed && !new_faces_sound()) collapsed = true;
-#ifdef HEDRA_QUICKHULL_DEBUG
-    const std::string problem = collapsed ? std::string() : check_structure();
-    if (!problem.empty()) {
-      std::fprintf(stderr, "quickhull: after adding point %u: %s\n", eye, problem.c_str());
-      std::abort();
-    }
-#endif
   }
-  (void)skipped;
   std::size_t alive = 0;
   for (const WorkFace& face : faces) alive += face.mark == Mark::alive;
   if (r.status == QuickhullStatus::ok && (alive < 4 || collapsed)) {
@@ -799,6 +957,10 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
     // at this tolerance (the retry's larger eps sees it as flat).
     r.status = QuickhullStatus::topology_failure;
     r.error = "solid collapsed while merging at tolerance " + std::to_string(eps);
+  } else if (r.status == QuickhullStatus::ok && !structure_is_sound()) {
+    r.status = QuickhullStatus::topology_failure;
+    r.error = "inconsistent structure after merging at tolerance " + std::to_string(eps);
+    collapsed = true;
   } else if (r.status == QuickhullStatus::ok && !faces_are_sound(4 * eps)) {
     r.status = QuickhullStatus::topology_failure;
     r.error = "faces warped beyond the tolerance " + std::to_string(eps);
