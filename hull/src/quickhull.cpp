@@ -18,6 +18,8 @@
 #include <hedra/hull/quickhull.hpp>
 #include <limits>
 
+#include "outside_search.hpp"
+
 namespace hedra::hull {
 
 const char* to_string(QuickhullStatus status) {
@@ -82,10 +84,6 @@ struct QuickhullBuilder::Impl {
   std::vector<Index> discarded;
   std::vector<Index> ring;         // a face's vertices, for plane fitting
   bool collapsed = false;          // a merge found the solid flattened (see absorb)
-  std::vector<double> height;      // per face: distance of an interior point behind it
-  std::vector<Index> stack_faces;  // face walks
-  std::vector<Index> face_stamp;   // per face: last walk that visited it
-  Index face_round = 0;
   std::vector<Index> point_stamp;  // per point, for horizon checks and compaction
   Index stamp = 0;
   struct Frame {
@@ -576,21 +574,35 @@ struct QuickhullBuilder::Impl {
     return true;
   }
 
+  // Adapter of the working structure's live faces for OutsideSearch.
+  struct WorkFaces {
+    const Impl* q;
+    std::size_t face_count() const { return q->faces.size(); }
+    bool live(Index f) const { return q->faces[f].mark == Mark::alive; }
+    const Vec3& normal(Index f) const { return q->faces[f].normal; }
+    double offset(Index f) const { return q->faces[f].offset; }
+    template <class Fn>
+    void for_each_neighbor(Index f, Fn&& fn) const {
+      Index e = q->faces[f].edge;
+      std::size_t guard = 0;
+      do {
+        fn(q->edges[q->edges[e].twin].face);
+        e = q->edges[e].next;
+      } while (e != q->faces[f].edge && ++guard <= q->edges.size());
+    }
+  };
+  detail::OutsideSearch<WorkFaces> outside_search;
+
   // Puts every point that is not a vertex and lies more than eps in front of
   // a face of the current hull on the conflict list of the face it is
-  // farthest in front of; returns how many. The face is found as in
-  // max_outside_distance(): hill-climbing to the face the ray from an
-  // interior point c through p leaves by (exact: it maximises a linear
-  // function over the polar dual), then a walk over the connected patch of
-  // faces that see p. Points inside the inscribed sphere around c are skipped.
+  // farthest in front of (see outside_search.hpp); returns how many.
   std::size_t reinsert_outside_points(std::size_t n) {
     ++stamp;
     Vec3 c = Vec3::Zero();
     double count = 0;
-    Index start = kInvalidIndex;
     for (Index f = 0; f < faces.size(); ++f) {
       if (faces[f].mark != Mark::alive) continue;
-      c += faces[f].centroid, count += 1, start = f;
+      c += faces[f].centroid, count += 1;
       Index e = faces[f].edge;
       std::size_t guard = 0;
       do {
@@ -598,64 +610,13 @@ struct QuickhullBuilder::Impl {
         e = edges[e].next;
       } while (e != faces[f].edge && ++guard <= edges.size());
     }
-    if (start == kInvalidIndex) return 0;
-    c /= count;
-    height.assign(faces.size(), 0.0);
-    double inner = std::numeric_limits<double>::infinity();
-    for (Index f = 0; f < faces.size(); ++f) {
-      if (faces[f].mark != Mark::alive) continue;
-      height[f] = -faces[f].distance(c);
-      if (!(height[f] > 0)) return 0;  // c not strictly inside: nothing to climb on (never for a solid)
-      inner = std::min(inner, height[f]);
-    }
+    if (count == 0 || !outside_search.prepare(WorkFaces{this}, c / count)) return 0;
     std::size_t reinserted = 0;
-    Index face = start;
     for (Index i = 0; i < n; ++i) {
       if (point_stamp[i] == stamp) continue;  // a vertex
-      const Vec3 rel = pts[i] - c;
-      if (rel.norm() < inner) continue;
-      double gf = faces[face].normal.dot(rel) / height[face];
-      for (std::size_t step = 0; step <= faces.size(); ++step) {
-        Index best = face;
-        double best_g = gf;
-        Index e = faces[face].edge;
-        std::size_t guard = 0;
-        do {
-          const Index nb = edges[edges[e].twin].face;
-          const double gn = faces[nb].normal.dot(rel) / height[nb];
-          if (gn > best_g) best_g = gn, best = nb;
-          e = edges[e].next;
-        } while (e != faces[face].edge && ++guard <= edges.size());
-        if (best == face) break;
-        face = best, gf = best_g;
-      }
-      if (faces[face].distance(pts[i]) <= eps) continue;
-      // The farthest face in the patch that sees the point.
-      Index best = face;
-      double best_d = faces[face].distance(pts[i]);
-      stack_faces.assign(1, face);
-      face_stamp.resize(faces.size(), 0);
-      ++face_round;
-      face_stamp[face] = face_round;
-      for (std::size_t guard = 0; !stack_faces.empty() && guard <= faces.size(); ++guard) {
-        const Index f = stack_faces.back();
-        stack_faces.pop_back();
-        Index e = faces[f].edge;
-        std::size_t g2 = 0;
-        do {
-          const Index nb = edges[edges[e].twin].face;
-          if (face_stamp[nb] != face_round) {
-            face_stamp[nb] = face_round;
-            const double d = faces[nb].distance(pts[i]);
-            if (d > 0) {
-              stack_faces.push_back(nb);
-              if (d > best_d) best_d = d, best = nb;
-            }
-          }
-          e = edges[e].next;
-        } while (e != faces[f].edge && ++g2 <= edges.size());
-      }
-      push_conflict(best, i);
+      const auto [face, d] = outside_search.farthest_face_in_front(pts[i]);
+      if (face == kInvalidIndex || d <= eps) continue;
+      push_conflict(face, i);
       ++reinserted;
     }
     return reinserted;
@@ -1034,6 +995,21 @@ QuickhullResult build_hull(const std::vector<Eigen::Vector3d>& points, const Qui
   return QuickhullBuilder().build(points, options);
 }
 
+namespace {
+// Adapter of a finished mesh's faces for OutsideSearch.
+struct MeshFaces {
+  const HalfEdgeMesh* m;
+  std::size_t face_count() const { return m->face_count(); }
+  bool live(Index) const { return true; }
+  const Vec3& normal(Index f) const { return m->plane(f).normal; }
+  double offset(Index f) const { return m->plane(f).offset; }
+  template <class Fn>
+  void for_each_neighbor(Index f, Fn&& fn) const {
+    for (Index n : m->face_neighbors(f)) fn(n);
+  }
+};
+}  // namespace
+
 // The largest signed distance of a point to a face plane. For solids the face
 // maximising it is found without scanning every face: the ray from the
 // centroid c through p leaves the hull through the face maximising
@@ -1074,78 +1050,14 @@ double max_outside_distance(const HalfEdgeMesh& mesh, const std::vector<Eigen::V
   Vec3 c = Vec3::Zero();
   for (const auto& v : mesh.vertices) c += v.position;
   c /= static_cast<double>(mesh.vertex_count());
-  const std::size_t nf = mesh.face_count();
-  std::vector<double> height(nf);  // distance from c to each plane (> 0)
-  double inner = std::numeric_limits<double>::infinity();
-  for (Index f = 0; f < nf; ++f) {
-    height[f] = -mesh.plane(f).signed_distance(c);
-    inner = std::min(inner, height[f]);
+  detail::OutsideSearch<MeshFaces> search;
+  if (!search.prepare(MeshFaces{&mesh}, c)) {
+    // Not a proper solid around its vertex average: check every plane.
+    for (const auto& p : points)
+      for (Index f = 0; f < mesh.face_count(); ++f) worst = std::max(worst, mesh.plane(f).signed_distance(p));
+    return worst;
   }
-  // Hill-climbing for the exit face of the ray c + t * dir.
-  auto climb = [&](Index face, const Vec3& dir) {
-    auto g = [&](Index f) { return mesh.plane(f).normal.dot(dir) / height[f]; };
-    double gf = g(face);
-    for (std::size_t step = 0; step <= nf; ++step) {
-      Index best = face;
-      double best_g = gf;
-      for (Index n : mesh.face_neighbors(face)) {
-        const double gn = g(n);
-        if (gn > best_g) best_g = gn, best = n;
-      }
-      if (best == face) break;
-      face = best, gf = best_g;
-    }
-    return face;
-  };
-  // Start faces from a cube map of directions (k x k cells on each of the six
-  // sides), so that each point climbs only a few steps.
-  const int k = static_cast<int>(std::clamp(std::sqrt(static_cast<double>(nf)), 1.0, 64.0));
-  auto cell_of = [&](const Vec3& d) {
-    int axis = 0;
-    d.cwiseAbs().maxCoeff(&axis);
-    const double m = std::abs(d[axis]);
-    if (!(m > 0)) return 0;
-    const int side = 2 * axis + (d[axis] > 0 ? 1 : 0);
-    const double u = d[(axis + 1) % 3] / m, v = d[(axis + 2) % 3] / m;  // in [-1, 1]
-    const int iu = std::clamp(static_cast<int>((u + 1) * 0.5 * k), 0, k - 1);
-    const int iv = std::clamp(static_cast<int>((v + 1) * 0.5 * k), 0, k - 1);
-    return (side * k + iu) * k + iv;
-  };
-  std::vector<Index> cell_face(static_cast<std::size_t>(6 * k * k));
-  {
-    Index face = 0;
-    for (int side = 0; side < 6; ++side)
-      for (int iu = 0; iu < k; ++iu)
-        for (int iv = 0; iv < k; ++iv) {
-          Vec3 d;
-          const int axis = side / 2;
-          d[axis] = side % 2 ? 1.0 : -1.0;
-          d[(axis + 1) % 3] = (iu + 0.5) / k * 2 - 1;
-          d[(axis + 2) % 3] = (iv + 0.5) / k * 2 - 1;
-          face = climb(face, d);
-          cell_face[static_cast<std::size_t>((side * k + iu) * k + iv)] = face;
-        }
-  }
-  std::vector<Index> stamp(nf, kInvalidIndex), stack;
-  for (Index i = 0; i < points.size(); ++i) {
-    const Vec3 rel = points[i] - c;
-    if (rel.norm() < inner) continue;  // inside the inscribed sphere, so behind every plane
-    const Index face = climb(cell_face[static_cast<std::size_t>(cell_of(rel))], rel);
-    const Vec3& p = points[i];
-    if (mesh.plane(face).signed_distance(p) <= 0) continue;
-    stack.assign(1, face);
-    stamp[face] = i;
-    for (std::size_t guard = 0; !stack.empty() && guard <= nf; ++guard) {
-      const Index f = stack.back();
-      stack.pop_back();
-      worst = std::max(worst, mesh.plane(f).signed_distance(p));
-      for (Index n : mesh.face_neighbors(f)) {
-        if (stamp[n] == i || mesh.plane(n).signed_distance(p) <= 0) continue;
-        stamp[n] = i;
-        stack.push_back(n);
-      }
-    }
-  }
+  for (const auto& p : points) worst = std::max(worst, search.farthest_face_in_front(p).second);
   return worst;
 }
 

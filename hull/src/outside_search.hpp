@@ -1,0 +1,142 @@
+// Finding the face a point lies farthest in front of, without scanning every
+// face: used by max_outside_distance() on a finished mesh and by quickhull on
+// its working structure (to catch points that merging left outside).
+//
+// For an interior point c, the ray from c through p leaves the hull through
+// the face maximising
+//   g(f) = n_f . (p - c) / h_f,    h_f = d_f - n_f . c > 0,
+// a linear function of the polar dual's vertex n_f / h_f. The dual is convex,
+// so hill-climbing over face adjacency finds that face. If p is behind it, p
+// is inside (it lies on the segment from c to the exit point). Otherwise the
+// faces that see p form a connected patch around it, walked for the largest
+// distance. Each climb starts from a cube map of directions (k x k cells on
+// each side of a cube around c), so it takes a few steps; points inside the
+// sphere inscribed around c are skipped outright.
+//
+// Adapter requirements (A):
+//   std::size_t face_count() const;   bool live(Index f) const;
+//   const Eigen::Vector3d& normal(Index f) const;   double offset(Index f) const;
+//   template <class Fn> void for_each_neighbor(Index f, Fn&& fn) const;
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <hedra/hull/half_edge_mesh.hpp>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace hedra::hull::detail {
+
+template <class A>
+class OutsideSearch {
+ public:
+  // Prepares for queries against the live faces of `a` around interior point
+  // `c`. Returns false when c is not strictly behind every live face.
+  // The adapter is copied (it is a view: a pointer to the faces).
+  bool prepare(const A& a, const Eigen::Vector3d& c) {
+    a_ = a;
+    c_ = c;
+    const std::size_t nf = a.face_count();
+    height_.assign(nf, 0.0);
+    inner_ = std::numeric_limits<double>::infinity();
+    Index any = kInvalidIndex;
+    for (Index f = 0; f < nf; ++f) {
+      if (!a.live(f)) continue;
+      height_[f] = a.offset(f) - a.normal(f).dot(c);
+      if (!(height_[f] > 0)) return false;
+      inner_ = std::min(inner_, height_[f]);
+      any = f;
+    }
+    if (any == kInvalidIndex) return false;
+    std::size_t live = 0;
+    for (Index f = 0; f < nf; ++f) live += a.live(f);
+    k_ = static_cast<int>(std::clamp(std::sqrt(static_cast<double>(live)), 1.0, 64.0));
+    cell_face_.resize(static_cast<std::size_t>(6 * k_ * k_));
+    Index face = any;
+    for (int side = 0; side < 6; ++side)
+      for (int iu = 0; iu < k_; ++iu)
+        for (int iv = 0; iv < k_; ++iv) {
+          Eigen::Vector3d d;
+          const int axis = side / 2;
+          d[axis] = side % 2 ? 1.0 : -1.0;
+          d[(axis + 1) % 3] = (iu + 0.5) / k_ * 2 - 1;
+          d[(axis + 2) % 3] = (iv + 0.5) / k_ * 2 - 1;
+          face = climb(face, d);
+          cell_face_[static_cast<std::size_t>((side * k_ + iu) * k_ + iv)] = face;
+        }
+    stamp_.assign(nf, 0);
+    round_ = 0;
+    return true;
+  }
+
+  // The face p is farthest in front of and that distance, or {kInvalidIndex,
+  // 0} when p is behind (or on) every face.
+  std::pair<Index, double> farthest_face_in_front(const Eigen::Vector3d& p) {
+    const Eigen::Vector3d rel = p - c_;
+    if (rel.norm() < inner_) return {kInvalidIndex, 0.0};
+    const Index face = climb(cell_face_[cell_of(rel)], rel);
+    double best_d = distance(face, p);
+    if (!(best_d > 0)) return {kInvalidIndex, 0.0};
+    Index best = face;
+    if (++round_ == 0) std::fill(stamp_.begin(), stamp_.end(), 0), round_ = 1;
+    stack_.assign(1, face);
+    stamp_[face] = round_;
+    for (std::size_t guard = 0; !stack_.empty() && guard <= height_.size(); ++guard) {
+      const Index f = stack_.back();
+      stack_.pop_back();
+      a_.for_each_neighbor(f, [&](Index nb) {
+        if (stamp_[nb] == round_) return;
+        stamp_[nb] = round_;
+        const double d = distance(nb, p);
+        if (d > 0) {
+          stack_.push_back(nb);
+          if (d > best_d) best_d = d, best = nb;
+        }
+      });
+    }
+    return {best, best_d};
+  }
+
+ private:
+  double distance(Index f, const Eigen::Vector3d& p) const { return a_.normal(f).dot(p) - a_.offset(f); }
+
+  Index climb(Index face, const Eigen::Vector3d& dir) const {
+    auto g = [&](Index f) { return a_.normal(f).dot(dir) / height_[f]; };
+    double gf = g(face);
+    for (std::size_t step = 0; step <= height_.size(); ++step) {
+      Index best = face;
+      double best_g = gf;
+      a_.for_each_neighbor(face, [&](Index nb) {
+        const double gn = g(nb);
+        if (gn > best_g) best_g = gn, best = nb;
+      });
+      if (best == face) break;
+      face = best, gf = best_g;
+    }
+    return face;
+  }
+
+  std::size_t cell_of(const Eigen::Vector3d& d) const {
+    int axis = 0;
+    d.cwiseAbs().maxCoeff(&axis);
+    const double m = std::abs(d[axis]);
+    if (!(m > 0)) return 0;
+    const int side = 2 * axis + (d[axis] > 0 ? 1 : 0);
+    const double u = d[(axis + 1) % 3] / m, v = d[(axis + 2) % 3] / m;  // in [-1, 1]
+    const int iu = std::clamp(static_cast<int>((u + 1) * 0.5 * k_), 0, k_ - 1);
+    const int iv = std::clamp(static_cast<int>((v + 1) * 0.5 * k_), 0, k_ - 1);
+    return static_cast<std::size_t>((side * k_ + iu) * k_ + iv);
+  }
+
+  A a_{};
+  Eigen::Vector3d c_ = Eigen::Vector3d::Zero();
+  std::vector<double> height_;
+  double inner_ = 0;
+  int k_ = 1;
+  std::vector<Index> cell_face_;
+  std::vector<Index> stamp_, stack_;
+  Index round_ = 0;
+};
+
+}  // namespace hedra::hull::detail
