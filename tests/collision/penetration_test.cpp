@@ -798,27 +798,5 @@ TEST(PenetrationAllocation, NoHeapAllocationPerQuery) {
 }
 
 // Rough timing per query, printed (not asserted: a benchmark's job).
-TEST(PenetrationTiming, PrintsMedianTimePerQuery) {
-  std::mt19937_64 rng(113);
-  std::vector<std::shared_ptr<const ConvexPolyhedron>> hulls;
-  for (int i = 0; i < 16; ++i) hulls.push_back(make_hull(random_points(rng, 32, {1.0, 0.8, 0.6})));
-  std::vector<Pose> poses;
-  for (int i = 0; i < 64; ++i) poses.push_back(random_pose(rng, 0.5));
-  int epa_iterations = 0, queries = 0;
-  const auto start = std::chrono::steady_clock::now();
-  for (int rep = 0; rep < 20; ++rep)
-    for (int i = 0; i < 64; ++i) {
-      const PenetrationResult r = penetration(Polyhedron{hulls[i % 16], 0.0}, poses[i],
-                                              Polyhedron{hulls[(i + 3) % 16], 0.0}, poses[(i * 7 + 1) % 64]);
-      ASSERT_NE(r.status, Status::degenerate);
-      epa_iterations += r.epa_iterations;
-      ++queries;
-    }
-  const double us =
-      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() / queries;
-  std::printf("penetration, 32-vertex hulls, mostly overlapping: %.2f us/query, %.1f EPA iterations/query\n", us,
-              double(epa_iterations) / queries);
-}
-
 }  // namespace
 }  // namespace hedra::collision
