@@ -49,22 +49,8 @@ class OutsideSearch {
       any = f;
     }
     if (any == kInvalidIndex) return false;
-    std::size_t live = 0;
-    for (Index f = 0; f < nf; ++f) live += a.live(f);
-    k_ = static_cast<int>(std::clamp(std::sqrt(static_cast<double>(live)), 1.0, 64.0));
-    cell_face_.resize(static_cast<std::size_t>(6 * k_ * k_));
-    Index face = any;
-    for (int side = 0; side < 6; ++side)
-      for (int iu = 0; iu < k_; ++iu)
-        for (int iv = 0; iv < k_; ++iv) {
-          Eigen::Vector3d d;
-          const int axis = side / 2;
-          d[axis] = side % 2 ? 1.0 : -1.0;
-          d[(axis + 1) % 3] = (iu + 0.5) / k_ * 2 - 1;
-          d[(axis + 2) % 3] = (iv + 0.5) / k_ * 2 - 1;
-          face = climb(face, d);
-          cell_face_[static_cast<std::size_t>((side * k_ + iu) * k_ + iv)] = face;
-        }
+    any_ = any;
+    cell_face_.clear();  // built on the first point outside the inner sphere
     stamp_.assign(nf, 0);
     round_ = 0;
     return true;
@@ -75,6 +61,7 @@ class OutsideSearch {
   std::pair<Index, double> farthest_face_in_front(const Eigen::Vector3d& p) {
     const Eigen::Vector3d rel = p - c_;
     if (rel.norm() < inner_) return {kInvalidIndex, 0.0};
+    if (cell_face_.empty()) build_cube_map();
     const Index face = climb(cell_face_[cell_of(rel)], rel);
     double best_d = distance(face, p);
     if (!(best_d > 0)) return {kInvalidIndex, 0.0};
@@ -99,6 +86,25 @@ class OutsideSearch {
   }
 
  private:
+  void build_cube_map() {
+    std::size_t live = 0;
+    for (Index f = 0; f < height_.size(); ++f) live += a_.live(f);
+    k_ = static_cast<int>(std::clamp(std::sqrt(static_cast<double>(live)), 1.0, 64.0));
+    cell_face_.resize(static_cast<std::size_t>(6 * k_ * k_));
+    Index face = any_;
+    for (int side = 0; side < 6; ++side)
+      for (int iu = 0; iu < k_; ++iu)
+        for (int iv = 0; iv < k_; ++iv) {
+          Eigen::Vector3d d;
+          const int axis = side / 2;
+          d[axis] = side % 2 ? 1.0 : -1.0;
+          d[(axis + 1) % 3] = (iu + 0.5) / k_ * 2 - 1;
+          d[(axis + 2) % 3] = (iv + 0.5) / k_ * 2 - 1;
+          face = climb(face, d);
+          cell_face_[static_cast<std::size_t>((side * k_ + iu) * k_ + iv)] = face;
+        }
+  }
+
   double distance(Index f, const Eigen::Vector3d& p) const { return a_.normal(f).dot(p) - a_.offset(f); }
 
   Index climb(Index face, const Eigen::Vector3d& dir) const {
@@ -134,6 +140,7 @@ class OutsideSearch {
   std::vector<double> height_;
   double inner_ = 0;
   int k_ = 1;
+  Index any_ = kInvalidIndex;
   std::vector<Index> cell_face_;
   std::vector<Index> stamp_, stack_;
   Index round_ = 0;

@@ -82,9 +82,11 @@ struct QuickhullBuilder::Impl {
   std::vector<Index> new_faces;
   std::vector<Index> orphans;
   std::vector<Index> discarded;
-  std::vector<Index> ring;         // a face's vertices, for plane fitting
-  bool collapsed = false;          // a merge found the solid flattened (see absorb)
-  std::vector<Index> point_stamp;  // per point, for horizon checks and compaction
+  std::vector<Index> ring;           // a face's vertices, for plane fitting
+  bool collapsed = false;            // a merge found the solid flattened (see absorb)
+  bool merged = false;               // this iteration merged faces (edits beyond the cone)
+  Vec3 world_centre = Vec3::Zero();  // the recentring offset of this build
+  std::vector<Index> point_stamp;    // per point, for horizon checks and compaction
   Index stamp = 0;
   struct Frame {
     Index cur, stop;
@@ -212,6 +214,7 @@ struct QuickhullBuilder::Impl {
       return;
     }
     faces[g].mark = Mark::deleted;
+    merged = true;
     discarded.push_back(g);
     Index adj_prev = edges[adj].prev, adj_next = edges[adj].next;
     Index opp_prev = edges[opp].prev, opp_next = edges[opp].next;
@@ -546,7 +549,7 @@ struct QuickhullBuilder::Impl {
   // have at least three edges, and link consistently with their neighbours.
   // Cheap (proportional to the iteration's work); a failure means merging met
   // a flattened solid, and the attempt is abandoned.
-  bool new_faces_sound() const {
+  bool new_faces_sound(bool check_neighbors) const {
     auto cycle_ok = [&](Index f) {
       Index e = faces[f].edge;
       std::size_t n = 0;
@@ -564,6 +567,7 @@ struct QuickhullBuilder::Impl {
     for (Index f : new_faces) {
       if (faces[f].mark != Mark::alive) continue;
       if (!cycle_ok(f)) return false;
+      if (!check_neighbors) continue;
       // Their neighbours too: merging edits the faces around the cone.
       Index e = faces[f].edge;
       do {
@@ -730,6 +734,7 @@ QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std:
 void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_t n, const QuickhullOptions& options,
                                         const Vec3& centre, const Vec3& max_abs, QuickhullResult& r) {
   r.tolerance = eps;
+  world_centre = centre;
   // Planes are stored in world coordinates: add what representing them there
   // costs (large offsets), and the slack merging leaves (a merged face is
   // planar within a few eps).
@@ -890,8 +895,9 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
         collapsed = true;
         break;
       }
+      merged = false;
       add_point(eye);
-      if (!collapsed && !new_faces_sound()) collapsed = true;
+      if (!collapsed && !new_faces_sound(merged)) collapsed = true;
 #ifdef HEDRA_QUICKHULL_DEBUG
       // Debugging aid: the full O(E) check after every iteration, reporting
       // the first iteration that leaves the structure inconsistent.
@@ -975,10 +981,16 @@ void QuickhullBuilder::Impl::compact(const Eigen::Vector3d* input, QuickhullResu
       r.error = "internal error: a live half-edge links to a removed element";
     }
   }
-  for (Index f = 0; f < faces.size(); ++f)
-    if (face_map[f] != kInvalidIndex) m.faces[face_map[f]].edge = edge_map[faces[f].edge];
+  // Planes: the working ones (the checks above used them), moved back to
+  // world coordinates.
+  for (Index f = 0; f < faces.size(); ++f) {
+    if (face_map[f] == kInvalidIndex) continue;
+    Face& face = m.faces[face_map[f]];
+    face.edge = edge_map[faces[f].edge];
+    face.plane.normal = faces[f].normal;
+    face.plane.offset = faces[f].offset + faces[f].normal.dot(world_centre);
+  }
   m.rebuild_vertex_links();
-  m.update_planes();
 }
 
 QuickhullBuilder::QuickhullBuilder() : impl_(new Impl) {}
