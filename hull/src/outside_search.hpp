@@ -89,7 +89,9 @@ class OutsideSearch {
   void build_cube_map() {
     std::size_t live = 0;
     for (Index f = 0; f < height_.size(); ++f) live += a_.live(f);
-    k_ = static_cast<int>(std::clamp(std::sqrt(static_cast<double>(live)), 1.0, 64.0));
+    // About four faces a cell: each climb then takes a step or two, and the
+    // map costs a fraction of the faces' count to build.
+    k_ = static_cast<int>(std::clamp(std::sqrt(static_cast<double>(live) / 24.0), 1.0, 64.0));
     cell_face_.resize(static_cast<std::size_t>(6 * k_ * k_));
     Index face = any_;
     for (int side = 0; side < 6; ++side)

@@ -82,8 +82,15 @@ struct QuickhullBuilder::Impl {
   std::vector<Index> new_faces;
   std::vector<Index> orphans;
   std::vector<Index> discarded;
-  std::vector<Index> ring;           // a face's vertices, for plane fitting
-  bool collapsed = false;            // a merge found the solid flattened (see absorb)
+  std::vector<Index> ring;  // a face's vertices, for plane fitting
+  bool collapsed = false;   // a merge found the solid flattened (see absorb)
+  struct ConePlane {
+    Vec3 normal;
+    double offset;
+    Index face;
+  };
+  std::vector<ConePlane> cone;       // the live new faces' planes, packed
+  Index extreme[6] = {};             // points of least and greatest x, y, z
   bool merged = false;               // this iteration merged faces (edits beyond the cone)
   Vec3 world_centre = Vec3::Zero();  // the recentring offset of this build
   std::vector<Index> point_stamp;    // per point, for horizon checks and compaction
@@ -435,16 +442,20 @@ struct QuickhullBuilder::Impl {
     merge_new_faces();
     if (collapsed) return;  // the structure is abandoned; see absorb()
     // Hand the orphans to the new faces (the farthest one in front, stopping
-    // early when one is clearly in front); the rest are inside.
+    // early when one is clearly in front); the rest are inside. The live new
+    // faces' planes are packed together first: this loop is the hot one.
+    cone.clear();
+    for (Index f : new_faces)
+      if (faces[f].mark == Mark::alive) cone.push_back({faces[f].normal, faces[f].offset, f});
     for (Index p : orphans) {
+      const Vec3& q = pts[p];
       Index best = kInvalidIndex;
       double best_distance = eps;
-      for (Index f : new_faces) {
-        if (faces[f].mark != Mark::alive) continue;
-        const double d = faces[f].distance(pts[p]);
+      for (const ConePlane& c : cone) {
+        const double d = c.normal.dot(q) - c.offset;
         if (d > best_distance) {
           best_distance = d;
-          best = f;
+          best = c.face;
           if (d > 1000 * eps) break;
         }
       }
@@ -597,8 +608,8 @@ struct QuickhullBuilder::Impl {
   };
   detail::OutsideSearch<WorkFaces> outside_search;
 
-  // Puts every point that is not a vertex and lies more than eps in front of
-  // a face of the current hull on the conflict list of the face it is
+  // Puts every point that is not a vertex and lies more than 6 eps in front
+  // of a face of the current hull on the conflict list of the face it is
   // farthest in front of (see outside_search.hpp); returns how many.
   std::size_t reinsert_outside_points(std::size_t n) {
     ++stamp;
@@ -619,7 +630,11 @@ struct QuickhullBuilder::Impl {
     for (Index i = 0; i < n; ++i) {
       if (point_stamp[i] == stamp) continue;  // a vertex
       const auto [face, d] = outside_search.farthest_face_in_front(pts[i]);
-      if (face == kInvalidIndex || d <= eps) continue;
+      // Within 6 eps counts as on the hull: a near-duplicate of a vertex
+      // (dropped as an eye when within eps of it) can stand up to 5 eps in
+      // front of a face through that vertex (itself within 4 eps of the
+      // plane). 6 eps stays inside mesh.tolerance() = 8 eps + rounding.
+      if (face == kInvalidIndex || d <= 6 * eps) continue;
       push_conflict(face, i);
       ++reinserted;
     }
@@ -700,18 +715,21 @@ QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std:
     }
   }
   // Recentre on the bounding-box centre; derive the tolerance from the extent.
+  // One pass for the bounding box and the points extreme along each axis
+  // (the initial simplex starts from those; recentring keeps them extreme).
   Vec3 lo = input[0], hi = input[0];
-  for (std::size_t i = 1; i < n; ++i) {
-    lo = lo.cwiseMin(input[i]);
-    hi = hi.cwiseMax(input[i]);
+  for (int axis = 0; axis < 3; ++axis) extreme[2 * axis] = extreme[2 * axis + 1] = 0;
+  for (Index i = 1; i < n; ++i) {
+    const Vec3& p = input[i];
+    for (int axis = 0; axis < 3; ++axis) {
+      if (p[axis] < lo[axis]) lo[axis] = p[axis], extreme[2 * axis] = i;
+      if (p[axis] > hi[axis]) hi[axis] = p[axis], extreme[2 * axis + 1] = i;
+    }
   }
   const Vec3 centre = 0.5 * (lo + hi);
   pts.resize(n);
-  Vec3 max_abs = Vec3::Zero();
-  for (std::size_t i = 0; i < n; ++i) {
-    pts[i] = input[i] - centre;
-    max_abs = max_abs.cwiseMax(pts[i].cwiseAbs());
-  }
+  for (std::size_t i = 0; i < n; ++i) pts[i] = input[i] - centre;
+  const Vec3 max_abs = (hi - centre).cwiseMax(centre - lo);
   // A tolerance the input cannot satisfy (points so close to coplanar that
   // faces come out warped beyond it, as with clusters of near-duplicates) is
   // retried eightfold larger, up to a millionth of the extent, instead of
@@ -742,16 +760,6 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
   const double mesh_tolerance = 8 * eps + 4 * world;
 
   // Initial simplex.
-  Index extreme[6];
-  for (int axis = 0; axis < 3; ++axis) {
-    Index imin = 0, imax = 0;
-    for (Index i = 1; i < n; ++i) {
-      if (pts[i][axis] < pts[imin][axis]) imin = i;
-      if (pts[i][axis] > pts[imax][axis]) imax = i;
-    }
-    extreme[2 * axis] = imin;
-    extreme[2 * axis + 1] = imax;
-  }
   Index i0 = extreme[0], i1 = extreme[1];
   double best = -1;
   for (int a = 0; a < 6; ++a)
@@ -841,9 +849,9 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
   }
 
   // Merging tilts planes, so a point dropped as inside (within eps of the
-  // faces it was tested against) can end up farther out than eps. After the
-  // main loop, every non-vertex point is checked against the final hull and
-  // the ones outside by more than eps go back to conflict lists for another
+  // faces it was tested against) can end up farther out. After the main
+  // loop, every non-vertex point is checked against the final hull and the
+  // ones outside by more than 6 eps go back to conflict lists for another
   // round; a few rounds settle it, otherwise the attempt fails and the retry
   // uses a larger eps. The cap counts every point added, over all rounds.
   const std::size_t cap = options.max_iterations > 0 ? options.max_iterations : 4 * n + 4;

@@ -4,13 +4,14 @@
 // divergence theorem, combinatorial signatures in input indices).
 //
 // Tolerance policy: hedra derives eps (QuickhullResult::tolerance) from the
-// recentred extent of the input. A point may legitimately lie up to
-// kOutsideFactor * eps in front of a face: eps from the rule that drops points
-// not more than eps in front of every face, eps of plane drift when faces that
-// are coplanar within eps are merged and refitted, and eps for the rounding
-// of the distance evaluation itself plus slack for a second merge. The factor
-// is fixed here, before looking at any result; never raise it to make a test
-// pass.
+// recentred extent of the input. quickhull.cpp's containment pass puts back
+// every point more than 6 eps in front of a face of the finished hull (6 =
+// eps for a near-duplicate of a vertex, which is dropped, plus 4 eps by which
+// a vertex may sit off its merged face's plane, plus eps of slack), so no
+// point may lie more than kOutsideFactor = 6 eps in front of a face. That
+// bound is the algorithm's stated rule, not a measurement: never raise it to
+// make a test pass (mesh.tolerance() = 8 eps + rounding is the looser public
+// promise, checked separately).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -35,7 +36,7 @@
 
 namespace hedra::test {
 
-inline constexpr double kOutsideFactor = 4.0;
+inline constexpr double kOutsideFactor = 6.0;
 inline constexpr double kPi = 3.14159265358979323846;
 
 // Uniform and normal variates built directly on mt19937_64's bit stream (whose
@@ -424,7 +425,10 @@ inline std::string soundness_problem(const hull::QuickhullResult& r, const std::
   if (!why.empty()) return why;
   const hull::ValidationReport report = r.mesh.validate();
   if (!report.ok()) return "validate():\n" + report.to_string();
-  const double limit = kOutsideFactor * r.tolerance;
+  // Plus what storing the planes in world coordinates adds: mesh.tolerance()
+  // is 8 eps + that rounding term (quickhull.hpp).
+  const double world_rounding = std::max(0.0, r.mesh.tolerance() - 8 * r.tolerance);
+  const double limit = kOutsideFactor * r.tolerance + world_rounding;
   const Farthest mine = farthest_outside(r.mesh, points);
   if (mine.distance > limit) {
     std::snprintf(buf, sizeof buf,
