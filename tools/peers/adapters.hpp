@@ -1,0 +1,23 @@
+// Internal to tools/peers: the prepare functions behind peer_methods().
+#pragma once
+
+#include <memory>
+
+#include "peers.hpp"
+
+namespace hedra::peers::detail {
+
+std::unique_ptr<PreparedPair> prepare_ccd_gjk(const PeerPair& pair);
+std::unique_ptr<PreparedPair> prepare_ccd_gjk_epa(const PeerPair& pair);
+std::unique_ptr<PreparedPair> prepare_ccd_mpr(const PeerPair& pair);
+std::unique_ptr<PreparedPair> prepare_fcl_libccd(const PeerPair& pair);
+std::unique_ptr<PreparedPair> prepare_fcl_indep(const PeerPair& pair);
+std::unique_ptr<PreparedPair> prepare_bullet_f32_gjk_epa(const PeerPair& pair);
+std::unique_ptr<PreparedPair> prepare_bullet_f64_gjk_epa(const PeerPair& pair);
+std::unique_ptr<PreparedPair> prepare_bullet_f32_signed(const PeerPair& pair);
+std::unique_ptr<PreparedPair> prepare_bullet_f64_signed(const PeerPair& pair);
+
+// A prepared pair whose every query answers "unsupported: <why>".
+std::unique_ptr<PreparedPair> unsupported(const char* why);
+
+}  // namespace hedra::peers::detail

@@ -1,0 +1,168 @@
+// One Bullet 3.24 build behind bullet_module.h (see there). Shapes are
+// Bullet's own primitives and btConvexHullShape; every collision margin is
+// set to hedra's margin (0 by default, where Bullet's default is 0.04), and
+// where Bullet keeps the outer size fixed on setMargin (box, cylinder) the
+// shape is built at core + margin so that its core stays hedra's.
+//
+// btGjkPairDetector reports a normal "on B" pointing from B toward A and the
+// point on B; hedra's normal is its negation and point_a = point_b +
+// distance * normal_on_b. btGjkEpaSolver2::SignedDistance reports its normal
+// in A's local frame (field-notes.md): it is rotated to world here.
+#include "bullet_module.h"
+
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpa2.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
+#include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
+#include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
+#include <btBulletCollisionCommon.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace {
+
+std::unique_ptr<btConvexShape> make_shape(const HedraBulletShape& s) {
+  const btScalar m = static_cast<btScalar>(s.margin);
+  std::unique_ptr<btConvexShape> shape;
+  switch (s.kind) {
+    case hedra_bullet_sphere:
+      shape = std::make_unique<btSphereShape>(static_cast<btScalar>(s.radius + s.margin));
+      return shape;
+    case hedra_bullet_capsule:
+      shape = std::make_unique<btCapsuleShapeZ>(static_cast<btScalar>(s.radius + s.margin),
+                                                static_cast<btScalar>(2.0 * s.half_length));
+      return shape;
+    case hedra_bullet_box:
+      shape = std::make_unique<btBoxShape>(btVector3(static_cast<btScalar>(s.half_extents[0] + s.margin),
+                                                     static_cast<btScalar>(s.half_extents[1] + s.margin),
+                                                     static_cast<btScalar>(s.half_extents[2] + s.margin)));
+      break;
+    case hedra_bullet_cylinder:
+      shape = std::make_unique<btCylinderShapeZ>(btVector3(static_cast<btScalar>(s.radius + s.margin),
+                                                           static_cast<btScalar>(s.radius + s.margin),
+                                                           static_cast<btScalar>(s.half_length + s.margin)));
+      break;
+    case hedra_bullet_cone:
+      shape =
+          std::make_unique<btConeShapeZ>(static_cast<btScalar>(s.radius), static_cast<btScalar>(2.0 * s.half_length));
+      break;
+    default: {
+      auto hull = std::make_unique<btConvexHullShape>();
+      for (size_t i = 0; i < s.point_count; ++i)
+        hull->addPoint(btVector3(static_cast<btScalar>(s.points[3 * i]), static_cast<btScalar>(s.points[3 * i + 1]),
+                                 static_cast<btScalar>(s.points[3 * i + 2])),
+                       false);
+      hull->recalcLocalAabb();
+      shape = std::move(hull);
+    }
+  }
+  shape->setMargin(m);
+  return shape;
+}
+
+btTransform make_transform(const HedraBulletShape& s) {
+  const auto c = [&](int i) { return static_cast<btScalar>(s.rotation[i]); };
+  btMatrix3x3 basis(c(0), c(1), c(2), c(3), c(4), c(5), c(6), c(7), c(8));
+  return btTransform(basis, btVector3(static_cast<btScalar>(s.translation[0]), static_cast<btScalar>(s.translation[1]),
+                                      static_cast<btScalar>(s.translation[2])));
+}
+
+void store(const btVector3& v, double* out) {
+  for (int k = 0; k < 3; ++k) out[k] = static_cast<double>(v[k]);
+}
+
+struct Prepared {
+  std::unique_ptr<btConvexShape> a, b;
+  btTransform ta, tb;
+  int method = 0;
+};
+
+void finish(HedraBulletResult* out) {
+  bool finite = std::isfinite(out->distance);
+  for (int k = 0; k < 3; ++k)
+    finite =
+        finite && std::isfinite(out->normal[k]) && std::isfinite(out->point_a[k]) && std::isfinite(out->point_b[k]);
+  out->ok = finite;
+  std::snprintf(out->status, sizeof(out->status), "%s", finite ? "ok" : "Bullet returned a non-finite value");
+}
+
+void query_pair_detector(Prepared& p, int query, HedraBulletResult* out) {
+  btVoronoiSimplexSolver simplex;
+  btGjkEpaPenetrationDepthSolver epa;
+  btGjkPairDetector gjk(p.a.get(), p.b.get(), &simplex, &epa);
+  btGjkPairDetector::ClosestPointInput input;
+  input.m_transformA = p.ta;
+  input.m_transformB = p.tb;
+  btPointCollector collector;
+  gjk.getClosestPoints(input, collector, nullptr);
+  if (!collector.m_hasResult) {
+    std::snprintf(out->status, sizeof(out->status), "btGjkPairDetector: no result");
+    return;
+  }
+  const double d = static_cast<double>(collector.m_distance);
+  const btVector3 n = -collector.m_normalOnBInWorld;
+  const btVector3 pb = collector.m_pointInWorld;
+  const btVector3 pa = pb + collector.m_normalOnBInWorld * collector.m_distance;
+  out->intersecting = d <= 0.0;
+  out->has_distance = query != 0;
+  out->distance = query == 1 && d < 0.0 ? 0.0 : d;
+  store(n, out->normal);
+  store(pa, out->point_a);
+  store(pb, out->point_b);
+  finish(out);
+}
+
+void query_signed_distance(Prepared& p, int query, HedraBulletResult* out) {
+  btGjkEpaSolver2::sResults results;
+  const btVector3 guess = p.tb.getOrigin() - p.ta.getOrigin();
+  const bool answered = btGjkEpaSolver2::SignedDistance(p.a.get(), p.ta, p.b.get(), p.tb, guess, results);
+  if (!answered) {
+    std::snprintf(out->status, sizeof(out->status), "btGjkEpaSolver2::SignedDistance failed (status %d)",
+                  static_cast<int>(results.status));
+    return;
+  }
+  // SignedDistance works on the cores (no margins: a sphere is its centre)
+  // and its normal points from B toward A in A's frame.
+  const btScalar ma = p.a->getMargin(), mb = p.b->getMargin();
+  const btVector3 n = -(p.ta.getBasis() * results.normal);
+  const double d = static_cast<double>(results.distance - ma - mb);
+  out->intersecting = d <= 0.0;
+  out->has_distance = query != 0;
+  out->distance = query == 1 && d < 0.0 ? 0.0 : d;
+  store(n, out->normal);
+  store(results.witnesses[0] + ma * n, out->point_a);
+  store(results.witnesses[1] - mb * n, out->point_b);
+  finish(out);
+}
+
+}  // namespace
+
+extern "C" {
+
+__attribute__((visibility("default"))) void* hedra_bullet_prepare(const HedraBulletShape* a, const HedraBulletShape* b,
+                                                                  int method) {
+  auto* p = new Prepared;
+  p->a = make_shape(*a);
+  p->b = make_shape(*b);
+  p->ta = make_transform(*a);
+  p->tb = make_transform(*b);
+  p->method = method;
+  return p;
+}
+
+__attribute__((visibility("default"))) void hedra_bullet_query(void* prepared, int query, HedraBulletResult* out) {
+  *out = HedraBulletResult{};
+  out->distance = NAN;
+  auto& p = *static_cast<Prepared*>(prepared);
+  if (p.method == 0)
+    query_pair_detector(p, query, out);
+  else
+    query_signed_distance(p, query, out);
+}
+
+__attribute__((visibility("default"))) void hedra_bullet_release(void* prepared) {
+  delete static_cast<Prepared*>(prepared);
+}
+}

@@ -1,0 +1,43 @@
+// The plain-C boundary between hedra_peers and its two Bullet modules
+// (bullet_module.cpp compiled once against libBulletCollision.so and once,
+// with BT_USE_DOUBLE_PRECISION, against libBulletCollision-float64.so). Only
+// plain data crosses it, so neither module needs hedra or Eigen, and the two
+// Bullet builds never share a symbol scope (each module is dlopen'ed with
+// RTLD_LOCAL).
+#pragma once
+
+#include <stddef.h>
+
+extern "C" {
+
+enum HedraBulletKind {
+  hedra_bullet_sphere,
+  hedra_bullet_box,
+  hedra_bullet_capsule,
+  hedra_bullet_cylinder,
+  hedra_bullet_cone,
+  hedra_bullet_hull
+};
+
+struct HedraBulletShape {
+  int kind;
+  double radius, half_length, half_extents[3], margin;
+  const double* points;  // hull vertices, xyz packed, in the hull's frame
+  size_t point_count;
+  double rotation[9];     // row-major world rotation
+  double translation[3];  // world position of the shape's (hull's) origin
+};
+
+struct HedraBulletResult {
+  int ok, intersecting, has_distance;
+  double distance, normal[3], point_a[3], point_b[3];
+  char status[160];
+};
+
+// method: 0 = btGjkPairDetector + btGjkEpaPenetrationDepthSolver,
+//         1 = btGjkEpaSolver2::SignedDistance.
+// query:  0 = intersect, 1 = distance, 2 = penetration (hedra::peers::PeerQuery).
+typedef void* (*HedraBulletPrepare)(const HedraBulletShape* a, const HedraBulletShape* b, int method);
+typedef void (*HedraBulletQuery)(void* prepared, int query, HedraBulletResult* out);
+typedef void (*HedraBulletRelease)(void* prepared);
+}
