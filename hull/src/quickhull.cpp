@@ -105,6 +105,16 @@ struct QuickhullBuilder::Impl {
   // ---- face helpers -----------------------------------------------------
   void update_face(Index f) {
     WorkFace& face = faces[f];
+    const Index e0 = face.edge, e1 = edges[e0].next, e2 = edges[e1].next;
+    if (edges[e2].next == e0) {  // a triangle, the common case: no gathering
+      const Index v[3] = {edges[e0].origin, edges[e1].origin, edges[e2].origin};
+      face.centroid = (pts[v[0]] + pts[v[1]] + pts[v[2]]) / 3.0;
+      const Plane plane = polygon_plane(
+          3, [&](std::size_t i) -> const Vec3& { return pts[v[i]]; }, &face.area);
+      face.normal = plane.normal;
+      face.offset = plane.offset;
+      return;
+    }
     ring.clear();
     Index e = face.edge;
     do {
@@ -351,7 +361,8 @@ struct QuickhullBuilder::Impl {
       for (std::size_t k = 0; k < cap; ++k)
         if (!merge_once(nf[i], MergeRule::nonconvex, unused)) break;
     }
-    for (std::size_t i = 0; i < nf.size() && !collapsed; ++i) {
+    // A fresh triangle cannot turn outward: only merged faces need this.
+    for (std::size_t i = 0; i < nf.size() && !collapsed && merged; ++i) {
       if (faces[nf[i]].mark != Mark::alive) continue;
       for (std::size_t k = 0; k < cap; ++k) {
         if (!merge_reflex_once(nf[i])) break;
