@@ -65,8 +65,10 @@ if [[ ! -f build/CMakeCache.txt ]] && command -v ninja >/dev/null 2>&1; then
 fi
 jobs=${HEDRA_JOBS:-$(nproc 2>/dev/null || echo 2)}
 
-say "configuring build/ (Release)"
-cmake -S . -B build ${generator[@]+"${generator[@]}"} -DCMAKE_BUILD_TYPE=Release
+# The quick start builds the peer cross-checks too (libccd, FCL, Bullet);
+# embedders leave HEDRA_WITH_PEERS off and depend on Eigen alone.
+say "configuring build/ (Release, peers on)"
+cmake -S . -B build ${generator[@]+"${generator[@]}"} -DCMAKE_BUILD_TYPE=Release -DHEDRA_WITH_PEERS=ON
 say "building with $jobs jobs"
 cmake --build build --parallel "$jobs"
 
