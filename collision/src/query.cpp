@@ -34,6 +34,8 @@ Status to_status(GjkStatus s) {
       return Status::ok;
     case GjkStatus::max_iterations:
       return Status::max_iterations;
+    case GjkStatus::stalled:
+      return Status::stalled;
     case GjkStatus::degenerate:
       return Status::degenerate;
   }

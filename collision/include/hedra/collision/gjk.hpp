@@ -25,17 +25,30 @@
 // sub-algorithm or Voronoi-region tests, no determinant is compared against
 // a threshold, so near-degenerate simplices cannot flip between regions: a
 // flat tetrahedron or a collinear triangle simply fails the sign test and its
-// faces (edges) are examined instead.
+// faces (edges) are examined instead. Signs that are pure rounding can still
+// mark the wrong faces as the ones to examine, so the faces (edges) through
+// the support point just added are always examined too (s3d explains why).
+//
+// The closest point itself is not taken as sum lambda_i w_i: that sum carries
+// an absolute rounding error of eps |w| (the simplex's size), which near
+// contact (|v| ~ 1e-9 |w|) turns v's direction by eps |w| / |v| ~ 1e-7 rad.
+// Against nearly parallel faces the next support point depends on that
+// direction, and the loop used to end on a "duplicate" vertex with the
+// duality gap still large (distances of 1e-8 reported for 1e-12). Instead v
+// is the origin's projection on the sub-simplex's affine hull computed from
+// its normal, (c . n / |n|^2) n for a triangle, whose direction is n's
+// (relative error eps, whatever |v|); lambda_i only give the witnesses.
 //
 // Termination (whichever comes first; every exit keeps finite outputs):
 //   * |v| <= zero threshold (16 eps x scale) or the simplex is a tetrahedron
 //     containing the origin: the cores overlap or touch (intersecting);
-//   * gap <= max(relative_tolerance |v|^2, absolute_tolerance scale |v|):
-//     the distance error is below max(rel |v|, abs scale) (converged);
-//   * w equals a simplex vertex (a duplicate support point): no better point
-//     exists up to rounding (converged);
-//   * |v|^2 fails to decrease strictly (rounding has taken over, or a NaN
-//     appeared in the sub-algorithm): the previous v, still the best, is kept;
+//   * the certified gap |v| - lower <= max(relative_tolerance |v|,
+//     absolute_tolerance scale), lower being the best v . w / |v| of all
+//     iterations: the distance error is below the tolerance (ok);
+//   * w equals a simplex vertex (a duplicate support point), or |v|^2 fails
+//     to decrease strictly (rounding has taken over, or a NaN appeared in the
+//     sub-algorithm): the previous v, still the best, is kept; the status is
+//     ok only if the certified gap is within the tolerance, else stalled;
 //   * a non-finite support point: status degenerate;
 //   * the iteration cap: status max_iterations, never read as "separated".
 // gjk_intersect additionally stops as soon as the answer is known: separated
@@ -59,6 +72,7 @@ namespace hedra::collision {
 enum class GjkStatus {
   ok,              // converged: outputs valid
   max_iterations,  // the cap was hit: outputs are the best so far, not a verdict
+  stalled,         // rounding stopped progress before the tolerance: best so far, see error_bound
   degenerate,      // a support point was not finite (NaN/inf input)
 };
 
@@ -68,6 +82,8 @@ inline const char* to_string(GjkStatus status) {
       return "ok";
     case GjkStatus::max_iterations:
       return "max_iterations";
+    case GjkStatus::stalled:
+      return "stalled";
     case GjkStatus::degenerate:
       return "degenerate";
   }
@@ -119,22 +135,20 @@ namespace gjk_detail {
 // signed-volumes method.
 inline bool same_sign(double x, double y) { return (x > 0.0 && y > 0.0) || (x < 0.0 && y < 0.0); }
 
+// A sub-simplex, the barycentric weights of its point nearest the origin,
+// and that point (computed by projection, see the top of this file).
 struct Sub {
   int size = 0;
   std::array<int, 4> index{};
   std::array<double, 4> lambda{};
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
 };
 
-inline Eigen::Vector3d combine(const std::array<Eigen::Vector3d, 4>& w, const Sub& s) {
-  Eigen::Vector3d x = s.lambda[0] * w[s.index[0]];
-  for (int i = 1; i < s.size; ++i) x += s.lambda[i] * w[s.index[i]];
-  return x;
-}
-
-inline void vertex(int i, Sub& out) {
+inline void vertex(const std::array<Eigen::Vector3d, 4>& w, int i, Sub& out) {
   out.size = 1;
   out.index[0] = i;
   out.lambda[0] = 1.0;
+  out.point = w[i];
 }
 
 // Segment w[i0] w[i1].
@@ -148,12 +162,19 @@ inline void s1d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, Sub& ou
   const double mu = t[axis];
   if (!(tt > 0.0) || mu == 0.0) {
     // A point-like segment: the nearer end (NaN compares false: p1).
-    vertex(p0.squaredNorm() < p1.squaredNorm() ? i0 : i1, out);
+    vertex(w, p0.squaredNorm() < p1.squaredNorm() ? i0 : i1, out);
     return;
   }
-  // Projection of the origin on the line, then 1D signed lengths along the
-  // axis where the segment is longest.
-  const Eigen::Vector3d p = p0 - (p0.dot(t) / tt) * t;
+  // Projection of the origin on the line, from the nearer end (the smaller
+  // |base|, the smaller the cancellation); a second projection removes the
+  // component along t the first left by rounding (eps |base|, large against
+  // |p| near contact). Rotations of p about t are harmless; a tilt towards t
+  // would lower every v . w_i by |w_i - p| times the tilt and spoil the
+  // certified gap on a long segment near the origin (1e3 against 1e-3).
+  // Then 1D signed lengths along the axis where the segment is longest.
+  const Eigen::Vector3d& base = p0.squaredNorm() <= p1.squaredNorm() ? p0 : p1;
+  Eigen::Vector3d p = base - (base.dot(t) / tt) * t;
+  p -= (p.dot(t) / tt) * t;
   const double c0 = p1[axis] - p[axis];  // lambda_0 * mu
   const double c1 = p[axis] - p0[axis];  // lambda_1 * mu
   if (same_sign(mu, c0) && same_sign(mu, c1)) {
@@ -162,26 +183,34 @@ inline void s1d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, Sub& ou
     out.index[1] = i1;
     out.lambda[0] = c0 / mu;
     out.lambda[1] = c1 / mu;
+    out.point = p;
   } else if (!same_sign(mu, c1)) {
-    vertex(i0, out);  // the projection lies before p0
+    vertex(w, i0, out);  // the projection lies before p0
   } else {
-    vertex(i1, out);  // beyond p1
+    vertex(w, i1, out);  // beyond p1
   }
 }
 
-// Triangle w[i0] w[i1] w[i2].
-inline void s2d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, int i2, Sub& out) {
+// Triangle w[i0] w[i1] w[i2]. `newest` (one of the three indices, or -1):
+// the support point just added, whose edges are examined whatever the signs
+// say (see s3d).
+inline void s2d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, int i2, Sub& out, int newest = -1) {
   const Eigen::Vector3d& p0 = w[i0];
   const Eigen::Vector3d& p1 = w[i1];
   const Eigen::Vector3d& p2 = w[i2];
-  const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+  // The normal from the two edges meeting opposite the longest one (the
+  // smallest rounding error of the three equal cross products).
+  const Eigen::Vector3d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
+  const double l0 = e0.squaredNorm(), l1 = e1.squaredNorm(), l2 = e2.squaredNorm();
+  const Eigen::Vector3d n = l0 >= l1 && l0 >= l2 ? e1.cross(e2) : (l1 >= l2 ? e2.cross(e0) : e0.cross(e1));
   const double nn = n.squaredNorm();
   // Which edges to examine when the projection is not strictly inside: the
   // edge opposite vertex m where the m-th coordinate has the wrong sign, or
   // all three for a collinear (or non-finite) triangle.
   std::array<bool, 3> outside = {true, true, true};
   if (nn > 0.0 && std::isfinite(nn)) {
-    const Eigen::Vector3d p = (p0.dot(n) / nn) * n;  // origin projected on the plane
+    // The origin projected on the plane: along n, so v's direction is n's.
+    const Eigen::Vector3d p = (((p0.dot(n) + p1.dot(n)) + p2.dot(n)) / (3.0 * nn)) * n;
     int k = 0;
     n.cwiseAbs().maxCoeff(&k);
     const int i = (k + 1) % 3;
@@ -198,17 +227,19 @@ inline void s2d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, int i2,
       out.size = 3;
       out.index = {i0, i1, i2, 0};
       for (int m = 0; m < 3; ++m) out.lambda[m] = c[m] / mu;
+      out.point = p;
       return;
     }
   }
   const std::array<int, 3> ids = {i0, i1, i2};
   double best = std::numeric_limits<double>::infinity();
   bool found = false;
+  const bool has_newest = newest == i0 || newest == i1 || newest == i2;
   for (int m = 0; m < 3; ++m) {
-    if (!outside[m]) continue;
+    if (!outside[m] && !(has_newest && ids[m] != newest)) continue;
     Sub candidate;
     s1d(w, ids[(m + 1) % 3], ids[(m + 2) % 3], candidate);
-    const double d2 = combine(w, candidate).squaredNorm();
+    const double d2 = candidate.point.squaredNorm();
     if (!found || d2 < best) {
       best = d2;
       out = candidate;
@@ -233,18 +264,25 @@ inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
     out.size = 4;
     out.index = {0, 1, 2, 3};
     for (int m = 0; m < 4; ++m) out.lambda[m] = c[m] / mu;
+    out.point.setZero();
     return true;
   }
   // Faces opposite a vertex with a wrong-signed coordinate (all four for a
-  // flat tetrahedron), keeping the closest answer.
+  // flat tetrahedron), and always the three faces through w[3], the support
+  // point just added, keeping the closest answer. Why the extra faces: on a
+  // nearly flat tetrahedron (support points clustering on a curved surface,
+  // both rims of a cylinder-cone pair) the signs are rounding, a needed face
+  // through w[3] could go unexamined, v would not decrease and the loop would
+  // stop with the gap still large. Every candidate is a point of the simplex,
+  // so the closest of a larger set is never worse.
   static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
   double best = std::numeric_limits<double>::infinity();
   bool found = false;
   for (int m = 0; m < 4; ++m) {
-    if (!outside[m]) continue;
+    if (!outside[m] && m == 3) continue;
     Sub candidate;
-    s2d(w, kFace[m][0], kFace[m][1], kFace[m][2], candidate);
-    const double d2 = combine(w, candidate).squaredNorm();
+    s2d(w, kFace[m][0], kFace[m][1], kFace[m][2], candidate, 3);
+    const double d2 = candidate.point.squaredNorm();
     if (!found || d2 < best) {
       best = d2;
       out = candidate;
@@ -254,20 +292,21 @@ inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
   return false;
 }
 
-// Reduces `s` (1..4 points) to the sub-simplex nearest the origin; returns
-// true when the origin is inside a tetrahedron.
-inline bool signed_volumes(GjkSimplex& s) {
+// Reduces `s` (1..4 points) to the sub-simplex nearest the origin and sets
+// `point` to its point nearest the origin; returns true when the origin is
+// inside a tetrahedron.
+inline bool signed_volumes(GjkSimplex& s, Eigen::Vector3d& point) {
   Sub sub;
   bool inside = false;
   switch (s.size) {
     case 1:
-      vertex(0, sub);
+      vertex(s.w, 0, sub);
       break;
     case 2:
       s1d(s.w, 0, 1, sub);
       break;
     case 3:
-      s2d(s.w, 0, 1, 2, sub);
+      s2d(s.w, 0, 1, 2, sub, 2);
       break;
     default:
       inside = s3d(s.w, sub);
@@ -282,6 +321,7 @@ inline bool signed_volumes(GjkSimplex& s) {
     reduced.lambda[i] = sub.lambda[i];
   }
   s = reduced;
+  point = sub.point;
   return inside;
 }
 
@@ -337,28 +377,37 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     const double vw = v.dot(w);
     lower = std::max(lower, vw / vn);
     if (kBoolean && vw > margin * vn) break;  // a separating axis: done
-    const double gap = vv - vw;
-    if (gap <= std::max(settings.relative_tolerance * vv, abs_tolerance * vn)) break;
+    // The certified gap: upper bound |v| minus the best lower bound.
+    const double tolerance = std::max(settings.relative_tolerance * vn, abs_tolerance);
+    if (vn - lower <= tolerance) break;
     bool duplicate = false;
     for (int i = 0; i < s.size; ++i) duplicate = duplicate || s.w[i] == w;
-    if (duplicate) break;
+    if (duplicate) {
+      // Why: w is already a vertex, so the sub-algorithm would return the
+      // same v; the gap above the tolerance is rounding in v or w.
+      r.status = GjkStatus::stalled;
+      break;
+    }
 
     GjkSimplex next = s;
     next.w[next.size] = w;
     next.a[next.size] = pa;
     next.b[next.size] = pb;
     ++next.size;
-    const bool inside = signed_volumes(next);
+    Eigen::Vector3d v_next;
+    const bool inside = signed_volumes(next, v_next);
     if (inside) {
       s = next;
       r.intersecting = true;
       break;
     }
-    const Eigen::Vector3d v_next = weighted(next.w, next);
     const double vv_next = v_next.squaredNorm();
     // Strict decrease, written so that NaN fails it: keep the previous,
-    // better simplex and stop.
-    if (!(vv_next < vv)) break;
+    // better simplex and stop (the gap was above the tolerance).
+    if (!(vv_next < vv)) {
+      r.status = GjkStatus::stalled;
+      break;
+    }
     s = next;
     v = v_next;
     vv = vv_next;

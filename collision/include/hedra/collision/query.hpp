@@ -49,7 +49,7 @@ enum class Status {
   degenerate,      // a non-finite support point appeared
   invalid_input,   // a shape failed validate() or a pose is not finite
   polytope_full,   // EPA's fixed-capacity polytope ran out: best so far, see error_bound
-  stalled,         // EPA could not expand further (rounding): best so far, see error_bound
+  stalled,         // GJK or EPA stopped progressing (rounding) above the tolerance: best so far, see error_bound
 };
 
 const char* to_string(Status status);
