@@ -27,8 +27,8 @@ namespace hedra::tool {
 
 enum ExitCode : int {
   kExitOk = 0,
-  kExitCheckFailed = 1,   // `hedra check`: an expectation was not met
-  kExitBadInput = 2,      // bad input or usage; the message names the file and line
+  kExitCheckFailed = 1,  // `hedra check`: an expectation was not met
+  kExitBadInput = 2,     // bad input or usage; the message names the file and line
   // A library reported an internal failure (a bug to report). The contract
   // (shared/scene-format.md) has exit codes 0, 1 and 2 only, and programs
   // that drive hedra rely on it: this is 2 too, with a message that says so.

@@ -21,7 +21,6 @@
 
 #include <Eigen/Geometry>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -796,7 +795,5 @@ TEST(PenetrationAllocation, NoHeapAllocationPerQuery) {
   make_hull(random_points(rng, 10, {1, 1, 1}));
   EXPECT_GT(g_allocations.load(), after);  // the counter does count
 }
-
-// Rough timing per query, printed (not asserted: a benchmark's job).
 }  // namespace
 }  // namespace hedra::collision

@@ -16,9 +16,8 @@
 #endif
 
 #ifndef HEDRA_ASSERT_HANDLER
-#  define HEDRA_ASSERT_HANDLER(expr, file, line)                                  \
-    (std::fprintf(stderr, "%s:%d: hedra assertion failed: %s\n", file, line, expr), \
-     std::abort())
+#  define HEDRA_ASSERT_HANDLER(expr, file, line) \
+    (std::fprintf(stderr, "%s:%d: hedra assertion failed: %s\n", file, line, expr), std::abort())
 #endif
 
 #if HEDRA_ASSERTS_ENABLED
