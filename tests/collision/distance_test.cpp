@@ -27,56 +27,21 @@
 #include <random>
 #include <vector>
 
-// ---- allocation counter (GCC cannot see that malloc/free pair up here)
-#if defined(__GNUC__) && !defined(__clang__)
-#  pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-namespace {
-std::atomic<long> g_allocations{0};
-}
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#include "allocation_counter.hpp"
+#include "collision_test_support.hpp"
 
 namespace hedra::collision {
 namespace {
 
+using namespace hedra::collision::testing;
+
 using Vec = Eigen::Vector3d;
-
-std::shared_ptr<const ConvexPolyhedron> make_hull(const std::vector<Vec>& points) {
-  ConvexPolyhedron::BuildResult built = ConvexPolyhedron::build(points);
-  EXPECT_TRUE(built.ok()) << built.message;
-  return built.polyhedron;
-}
-
-Vec random_unit(std::mt19937_64& rng) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  return Vec(g(rng), g(rng), g(rng)).normalized();
-}
 
 Pose random_pose(std::mt19937_64& rng, double spread) {
   std::uniform_real_distribution<double> u(-spread, spread);
   std::normal_distribution<double> g(0.0, 1.0);
   const Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
   return Pose::from_quaternion(q, Vec(u(rng), u(rng), u(rng)));
-}
-
-std::vector<Vec> random_points(std::mt19937_64& rng, int n, const Vec& scale) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Vec> p;
-  for (int i = 0; i < n; ++i) p.push_back(Vec(u(rng), u(rng), u(rng)).cwiseProduct(scale));
-  return p;
 }
 
 // ---- independent references ------------------------------------------------
@@ -139,17 +104,6 @@ double segment_distance(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& 
     if (s >= 0 && s <= 1 && t >= 0 && t <= 1) best = std::min(best, (w + s * u - t * v).norm());
   }
   return best;
-}
-
-std::vector<Vec> world_vertices(const ConvexPolyhedron& poly, const Pose& pose) {
-  std::vector<Vec> out;
-  for (const Vec& v : poly.vertices()) out.push_back(pose.apply(poly.offset() + v));
-  return out;
-}
-
-// Support value of a posed shape: max over the shape of n . x (world).
-double support_value(const Shape& s, const Pose& pose, const Vec& n) {
-  return n.dot(pose.apply(support(s, pose.rotation.transpose() * n)));
 }
 
 // The optimality conditions of a distance answer: unit normal, witness

@@ -13,16 +13,14 @@
 #include <random>
 #include <vector>
 
+#include "collision_test_support.hpp"
+
 namespace hedra::collision {
 namespace {
 
-using Vec = Eigen::Vector3d;
+using namespace hedra::collision::testing;
 
-std::vector<Vec> posed(const std::vector<Vec>& local, const Pose& pose) {
-  std::vector<Vec> out;
-  for (const Vec& v : local) out.push_back(pose.apply(v));
-  return out;
-}
+using Vec = Eigen::Vector3d;
 
 // Signed distance from the origin to the boundary of conv{a_i - b_j}:
 // positive outside (the distance), negative inside (minus the depth, the

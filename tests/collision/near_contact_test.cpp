@@ -28,8 +28,12 @@
 #include <string>
 #include <vector>
 
+#include "collision_test_support.hpp"
+
 namespace hedra::collision {
 namespace {
+
+using namespace hedra::collision::testing;
 
 using Vec = Eigen::Vector3d;
 
@@ -80,12 +84,6 @@ double reference_distance(const std::vector<Vec>& a, const std::vector<Vec>& b) 
   return outside ? best : 0.0;
 }
 
-std::vector<Vec> posed(const std::vector<Vec>& local, const Pose& pose) {
-  std::vector<Vec> out;
-  for (const Vec& v : local) out.push_back(pose.apply(v));
-  return out;
-}
-
 std::vector<Vec> box_corners(const Vec& h) {
   std::vector<Vec> c;
   for (int i = 0; i < 8; ++i) c.emplace_back(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(), i & 4 ? h.z() : -h.z());
@@ -96,10 +94,6 @@ std::vector<Vec> hull_points(const ConvexPolyhedron& poly) {
   std::vector<Vec> out;
   for (const Vec& v : poly.vertices()) out.push_back(poly.offset() + v);
   return out;
-}
-
-double support_value(const Shape& s, const Pose& pose, const Vec& n) {
-  return n.dot(pose.apply(support(s, pose.rotation.transpose() * n)));
 }
 
 // Angles graded around `centre`: spacing 1e-5 there, each next step half the

@@ -30,43 +30,15 @@
 #include <random>
 #include <vector>
 
-// ---- allocation counter (GCC cannot see that malloc/free pair up here)
-#if defined(__GNUC__) && !defined(__clang__)
-#  pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-namespace {
-std::atomic<long> g_allocations{0};
-}
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#include "allocation_counter.hpp"
+#include "collision_test_support.hpp"
 
 namespace hedra::collision {
 namespace {
 
+using namespace hedra::collision::testing;
+
 using Vec = Eigen::Vector3d;
-
-std::shared_ptr<const ConvexPolyhedron> make_hull(const std::vector<Vec>& points) {
-  ConvexPolyhedron::BuildResult built = ConvexPolyhedron::build(points);
-  EXPECT_TRUE(built.ok()) << built.message;
-  return built.polyhedron;
-}
-
-Vec random_unit(std::mt19937_64& rng) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  return Vec(g(rng), g(rng), g(rng)).normalized();
-}
 
 Eigen::Matrix3d random_rotation(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
@@ -78,25 +50,7 @@ Pose random_pose(std::mt19937_64& rng, double spread) {
   return {random_rotation(rng), Vec(u(rng), u(rng), u(rng))};
 }
 
-std::vector<Vec> random_points(std::mt19937_64& rng, int n, const Vec& scale) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<Vec> p;
-  for (int i = 0; i < n; ++i) p.push_back(Vec(u(rng), u(rng), u(rng)).cwiseProduct(scale));
-  return p;
-}
-
-std::vector<Vec> world_vertices(const ConvexPolyhedron& poly, const Pose& pose) {
-  std::vector<Vec> out;
-  for (const Vec& v : poly.vertices()) out.push_back(pose.apply(poly.offset() + v));
-  return out;
-}
-
 double angle(const Vec& u, const Vec& v) { return std::atan2(u.cross(v).norm(), u.dot(v)); }
-
-// Support value of a posed shape: max over the shape of n . x (world).
-double support_value(const Shape& s, const Pose& pose, const Vec& n) {
-  return n.dot(pose.apply(support(s, pose.rotation.transpose() * n)));
-}
 
 // What every answer must satisfy: finite, a unit normal, point_b - point_a =
 // distance * normal, and the witnesses on the supporting planes of both
