@@ -46,66 +46,6 @@ Pose random_pose(std::mt19937_64& rng, double spread) {
 
 // ---- independent references ------------------------------------------------
 
-// Closest point of triangle abc to p: minimum over the interior critical
-// point (if inside) and the three edges (each a clamped 1D projection).
-Vec closest_on_segment(const Vec& p, const Vec& a, const Vec& b) {
-  const Vec ab = b - a;
-  const double len2 = ab.squaredNorm();
-  if (len2 == 0.0) return a;
-  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
-  return a + t * ab;
-}
-
-double point_triangle_distance(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
-  const Vec n = (b - a).cross(c - a);
-  double best = std::min({(closest_on_segment(p, a, b) - p).norm(), (closest_on_segment(p, b, c) - p).norm(),
-                          (closest_on_segment(p, c, a) - p).norm()});
-  const double nn = n.squaredNorm();
-  if (nn > 0.0) {
-    const Vec q = p - (n.dot(p - a) / nn) * n;  // projection on the plane
-    const bool inside =
-        n.dot((b - a).cross(q - a)) >= 0.0 && n.dot((c - b).cross(q - b)) >= 0.0 && n.dot((a - c).cross(q - c)) >= 0.0;
-    if (inside) best = std::min(best, (q - p).norm());
-  }
-  return best;
-}
-
-// Distance from the origin to conv{a_i - b_j} (world points), via qhull.
-double reference_distance(const std::vector<Vec>& a, const std::vector<Vec>& b) {
-  std::vector<Vec> diff;
-  for (const Vec& p : a)
-    for (const Vec& q : b) diff.push_back(p - q);
-  const reference::QhullHull h = reference::qhull_hull(diff, "Qt");
-  EXPECT_TRUE(h.ok) << h.messages;
-  bool outside = false;
-  double best = INFINITY;
-  for (const auto& t : h.triangles) {
-    const Vec& p0 = diff[t[0]];
-    const Vec& p1 = diff[t[1]];
-    const Vec& p2 = diff[t[2]];
-    const Vec n = (p1 - p0).cross(p2 - p0);
-    if (n.dot(-p0) > 0.0) outside = true;  // the origin is in front of this facet
-    best = std::min(best, point_triangle_distance(Vec::Zero(), p0, p1, p2));
-  }
-  return outside ? best : 0.0;
-}
-
-// Segment-segment distance: the minimum of the convex quadratic
-// |p0 + s u - q0 - t v|^2 over [0,1]^2 is at the interior stationary point
-// if that lies inside, otherwise on the boundary (four point-segment cases).
-double segment_distance(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& q1) {
-  const Vec u = p1 - p0, v = q1 - q0, w = p0 - q0;
-  double best = std::min({(closest_on_segment(p0, q0, q1) - p0).norm(), (closest_on_segment(p1, q0, q1) - p1).norm(),
-                          (closest_on_segment(q0, p0, p1) - q0).norm(), (closest_on_segment(q1, p0, p1) - q1).norm()});
-  const double a = u.dot(u), b = u.dot(v), c = v.dot(v), d = u.dot(w), e = v.dot(w);
-  const double den = a * c - b * b;
-  if (den > 1e-12 * a * c) {
-    const double s = (b * e - c * d) / den, t = (a * e - b * d) / den;
-    if (s >= 0 && s <= 1 && t >= 0 && t <= 1) best = std::min(best, (w + s * u - t * v).norm());
-  }
-  return best;
-}
-
 // The optimality conditions of a distance answer: unit normal, witness
 // points on the supporting planes of both shapes orthogonal to the normal,
 // and point_b - point_a = distance * normal.

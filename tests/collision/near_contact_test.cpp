@@ -46,44 +46,6 @@ std::string sci(double x) {
 constexpr double kTilts[] = {1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4};
 constexpr double kGaps[] = {0.0, 1e-12, 1e-9, 1e-6, 1e-3};  // times the size
 
-Vec closest_on_segment(const Vec& p, const Vec& a, const Vec& b) {
-  const Vec ab = b - a;
-  const double len2 = ab.squaredNorm();
-  if (len2 == 0.0) return a;
-  return a + std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) * ab;
-}
-
-double point_triangle_distance(const Vec& p, const Vec& a, const Vec& b, const Vec& c) {
-  const Vec n = (b - a).cross(c - a);
-  double best = std::min({(closest_on_segment(p, a, b) - p).norm(), (closest_on_segment(p, b, c) - p).norm(),
-                          (closest_on_segment(p, c, a) - p).norm()});
-  const double nn = n.squaredNorm();
-  if (nn > 0.0) {
-    const Vec q = p - (n.dot(p - a) / nn) * n;
-    const bool inside =
-        n.dot((b - a).cross(q - a)) >= 0.0 && n.dot((c - b).cross(q - b)) >= 0.0 && n.dot((a - c).cross(q - c)) >= 0.0;
-    if (inside) best = std::min(best, (q - p).norm());
-  }
-  return best;
-}
-
-// Distance from the origin to conv{a_i - b_j} (world points), via qhull.
-double reference_distance(const std::vector<Vec>& a, const std::vector<Vec>& b) {
-  std::vector<Vec> diff;
-  for (const Vec& p : a)
-    for (const Vec& q : b) diff.push_back(p - q);
-  const reference::QhullHull h = reference::qhull_hull(diff, "Qt");
-  EXPECT_TRUE(h.ok) << h.messages;
-  bool outside = false;
-  double best = INFINITY;
-  for (const auto& t : h.triangles) {
-    const Vec &p0 = diff[t[0]], &p1 = diff[t[1]], &p2 = diff[t[2]];
-    if ((p1 - p0).cross(p2 - p0).dot(-p0) > 0.0) outside = true;
-    best = std::min(best, point_triangle_distance(Vec::Zero(), p0, p1, p2));
-  }
-  return outside ? best : 0.0;
-}
-
 std::vector<Vec> box_corners(const Vec& h) {
   std::vector<Vec> c;
   for (int i = 0; i < 8; ++i) c.emplace_back(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(), i & 4 ? h.z() : -h.z());

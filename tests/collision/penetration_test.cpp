@@ -199,29 +199,6 @@ TEST(Penetration, SphereCentreInsideBox) {
   EXPECT_GT(checked, 1500);
 }
 
-// Segment-segment distance: the minimum of the convex quadratic
-// |p0 + s u - q0 - t v|^2 over [0,1]^2 (interior stationary point or one of
-// the four clamped point-segment cases).
-Vec closest_on_segment(const Vec& p, const Vec& a, const Vec& b) {
-  const Vec ab = b - a;
-  const double len2 = ab.squaredNorm();
-  if (len2 == 0.0) return a;
-  return a + std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) * ab;
-}
-
-double segment_distance(const Vec& p0, const Vec& p1, const Vec& q0, const Vec& q1) {
-  const Vec u = p1 - p0, v = q1 - q0, w = p0 - q0;
-  double best = std::min({(closest_on_segment(p0, q0, q1) - p0).norm(), (closest_on_segment(p1, q0, q1) - p1).norm(),
-                          (closest_on_segment(q0, p0, p1) - q0).norm(), (closest_on_segment(q1, p0, p1) - q1).norm()});
-  const double a = u.dot(u), b = u.dot(v), c = v.dot(v), d = u.dot(w), e = v.dot(w);
-  const double den = a * c - b * b;
-  if (den > 1e-12 * a * c) {
-    const double s = (b * e - c * d) / den, t = (a * e - b * d) / den;
-    if (s >= 0 && s <= 1 && t >= 0 && t <= 1) best = std::min(best, (w + s * u - t * v).norm());
-  }
-  return best;
-}
-
 TEST(Penetration, CapsuleCapsuleClosedForm) {
   std::mt19937_64 rng(104);
   std::uniform_real_distribution<double> len(0.05, 2.0), rad(0.05, 0.8), unit(-1.0, 1.0);
