@@ -255,7 +255,14 @@ struct QuickhullBuilder::Impl {
       return;
     }
     const Index stop = edges[opp_prev].next;
-    for (Index h = opp_next; h != stop; h = edges[h].next) edges[h].face = f;
+    {
+      Index h = opp_next;
+      for (int k = 0; h != stop && k < deg_g; ++k, h = edges[h].next) edges[h].face = f;
+      if (h != stop) {  // G's chain does not lead back: a broken structure
+        collapsed = true;
+        return;
+      }
+    }
     faces[f].edge = adj_next;
     const Index d1 = connect(opp_prev, adj_next);
     if (d1 != kInvalidIndex) discarded.push_back(d1);
