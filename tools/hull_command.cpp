@@ -148,6 +148,7 @@ int run_hull(const HullOptions& options, std::string& out, std::ostream& err) {
       break;
     case hull::QuickhullStatus::empty_input:
     case hull::QuickhullStatus::non_finite_input:
+    case hull::QuickhullStatus::out_of_range_input:
       // The reader rejects both already; kept for a builder that is stricter.
       err << options.input << ": " << result.error << "\n";
       return kExitBadInput;

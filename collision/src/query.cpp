@@ -52,7 +52,7 @@ hull::Index hint_of(const Core&) {
 hull::Index hint_of(const PolyhedronCore& core) { return core.hint; }
 
 bool inputs_valid(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
-  return pose_a.finite() && pose_b.finite() && validate(a).ok() && validate(b).ok();
+  return pose_a.valid() && pose_b.valid() && validate(a).ok() && validate(b).ok();
 }
 
 // Everything a query needs, typed: both cores, B's core in A's core frame,

@@ -22,6 +22,8 @@ const char* to_string(ShapeError error) {
       return "negative_margin";
     case ShapeError::empty_points:
       return "empty_points";
+    case ShapeError::out_of_range:
+      return "out_of_range";
     case ShapeError::hull_failed:
       return "hull_failed";
     case ShapeError::null_polyhedron:
@@ -48,6 +50,10 @@ bool check_size(double value, const char* what, ShapeValidation& out) {
     out = fail(ShapeError::negative_size, what, value);
     return false;
   }
+  if (value > max_shape_size) {
+    out = fail(ShapeError::out_of_range, what, value);
+    return false;
+  }
   return true;
 }
 
@@ -58,6 +64,10 @@ bool check_margin(double margin, ShapeValidation& out) {
   }
   if (margin < 0.0) {
     out = fail(ShapeError::negative_margin, "margin", margin);
+    return false;
+  }
+  if (margin > max_shape_size) {
+    out = fail(ShapeError::out_of_range, "margin", margin);
     return false;
   }
   return true;
@@ -133,8 +143,9 @@ ConvexPolyhedron::BuildResult ConvexPolyhedron::build(const std::vector<Eigen::V
   hull::QuickhullResult built = hull::build_hull(points, options);
   if (!built.ok()) {
     // quickhull names the first non-finite point itself.
-    result.error =
-        built.status == hull::QuickhullStatus::non_finite_input ? ShapeError::non_finite : ShapeError::hull_failed;
+    result.error = built.status == hull::QuickhullStatus::non_finite_input     ? ShapeError::non_finite
+                   : built.status == hull::QuickhullStatus::out_of_range_input ? ShapeError::out_of_range
+                                                                               : ShapeError::hull_failed;
     result.message = std::string(hull::to_string(built.status)) + ": " + built.error;
     return result;
   }

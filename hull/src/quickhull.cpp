@@ -30,6 +30,8 @@ const char* to_string(QuickhullStatus status) {
       return "empty_input";
     case QuickhullStatus::non_finite_input:
       return "non_finite_input";
+    case QuickhullStatus::out_of_range_input:
+      return "out_of_range_input";
     case QuickhullStatus::iteration_limit:
       return "iteration_limit";
     case QuickhullStatus::topology_failure:
@@ -744,7 +746,17 @@ QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std:
       if (p[axis] > hi[axis]) hi[axis] = p[axis], extreme[2 * axis + 1] = i;
     }
   }
-  const Vec3 centre = 0.5 * (lo + hi);
+  for (int axis = 0; axis < 3; ++axis) {
+    // hi - lo overflows to infinity for the widest spans: that fails too.
+    if (!(hi[axis] - lo[axis] <= max_input_extent)) {
+      r.status = QuickhullStatus::out_of_range_input;
+      r.error = "points " + std::to_string(extreme[2 * axis]) + " and " + std::to_string(extreme[2 * axis + 1]) +
+                " are more than 1e60 apart along " + "xyz"[axis] +
+                " (hull computations multiply coordinate differences and would overflow)";
+      return r;
+    }
+  }
+  const Vec3 centre = 0.5 * lo + 0.5 * hi;  // not 0.5 (lo + hi), which can overflow
   pts.resize(n);
   for (std::size_t i = 0; i < n; ++i) pts[i] = input[i] - centre;
   const Vec3 max_abs = (hi - centre).cwiseMax(centre - lo);
@@ -785,7 +797,11 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
       const double d = (pts[extreme[a]] - pts[extreme[b]]).squaredNorm();
       if (d > best) best = d, i0 = extreme[a], i1 = extreme[b];
     }
-  if (std::sqrt(best) <= eps) {
+  // A point when the widest pair is within the output's tolerance, not only
+  // within eps: the validator (and any user of mesh.tolerance()) would see a
+  // shorter segment as two coincident end points (found by fuzzing: two
+  // points 2 ulps apart at x = 1.5).
+  if (std::sqrt(best) <= std::max(eps, mesh_tolerance)) {
     finish_point(0, input, r);
     r.mesh.set_tolerance(mesh_tolerance);
     return;

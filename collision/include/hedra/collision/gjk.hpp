@@ -379,7 +379,15 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     if (kBoolean && vw > margin * vn) break;  // a separating axis: done
     // The certified gap: upper bound |v| minus the best lower bound.
     const double tolerance = std::max(settings.relative_tolerance * vn, abs_tolerance);
-    if (vn - lower <= tolerance) break;
+    if (vn - lower <= tolerance) {
+      // Converged. Without a positive lower bound (no axis separates the
+      // cores, beyond the margin for the boolean query) the origin may be
+      // inside: |v| <= tolerance is the cores touching within tolerance, not
+      // a separation (found by fuzzing: a point deep in a large cylinder
+      // stopped at |v| = 4e-11 and read as "separated").
+      if (lower <= (kBoolean ? margin : 0.0)) r.intersecting = true;
+      break;
+    }
     bool duplicate = false;
     for (int i = 0; i < s.size; ++i) duplicate = duplicate || s.w[i] == w;
     if (duplicate) {

@@ -26,7 +26,7 @@
 // half-edge rings, for the hill-climbing support.
 //
 // Invariants: every shape that passed validate() has finite, non-negative
-// parameters; a ConvexPolyhedron exists only if the hull was built (at least
+// parameters of at most max_shape_size; a ConvexPolyhedron exists only if the hull was built (at least
 // one vertex, all finite) and is never modified afterwards, so it can be
 // shared between bodies and threads through std::shared_ptr<const ...>.
 #pragma once
@@ -48,11 +48,19 @@ enum class ShapeError {
   negative_size,    // a negative radius, half-length or half-extent
   negative_margin,  // margin < 0
   empty_points,     // a polyhedron built from no points
+  out_of_range,     // a size or point set too large for double arithmetic (see validate())
   hull_failed,      // quickhull reported an error (message says which)
   null_polyhedron,  // a Polyhedron shape without its hull
 };
 
 const char* to_string(ShapeError error);
+
+// The largest radius, half-length, half-extent or margin validate() accepts
+// (the same bound as hull::max_input_extent for polyhedra): queries square
+// and multiply sizes, which must not overflow a double.
+constexpr double max_shape_size = 1e60;
+// The largest |coordinate| of a pose's translation that queries accept.
+constexpr double max_coordinate = 1e60;
 
 struct ShapeValidation {
   ShapeError error = ShapeError::none;

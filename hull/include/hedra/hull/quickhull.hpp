@@ -3,7 +3,11 @@
 // in Gregorius, "Implementing Quickhull", GDC 2014).
 //
 // Outline:
-//   1. Reject empty or non-finite input (the error names the first bad point).
+//   1. Reject empty or non-finite input (the error names the first bad point),
+//      and input spanning more than max_input_extent (1e60) along an axis:
+//      normals are cross products of coordinate differences and their squared
+//      lengths multiply four of them, which must not overflow a double (found
+//      by fuzzing: a span of 1e98 gave a zero normal and a wrong hull).
 //   2. Recentre the points on their bounding-box centre and derive the
 //      tolerance from the recentred extent:
 //        eps = 3 * DBL_EPSILON * (max|x| + max|y| + max|z|),
@@ -55,13 +59,18 @@ namespace hedra::hull {
 
 enum class QuickhullStatus {
   ok,
-  empty_input,       // no points at all
-  non_finite_input,  // a NaN or infinite coordinate; error names the point
-  iteration_limit,   // the iteration cap was hit (the mesh is the hull so far)
-  topology_failure,  // an internal consistency check failed (never expected)
+  empty_input,         // no points at all
+  non_finite_input,    // a NaN or infinite coordinate; error names the point
+  out_of_range_input,  // the points span more than max_input_extent along an axis
+  iteration_limit,     // the iteration cap was hit (the mesh is the hull so far)
+  topology_failure,    // an internal consistency check failed (never expected)
 };
 
 const char* to_string(QuickhullStatus status);
+
+// The largest extent (max - min of a coordinate) quickhull accepts: products
+// of up to five coordinate differences stay below 1e300.
+constexpr double max_input_extent = 1e60;
 
 struct QuickhullOptions {
   // Points within this distance of a face plane count as on it. 0 (the

@@ -1,0 +1,221 @@
+// Fuzz target: intersect / distance / penetration on arbitrary shapes and
+// poses.
+//
+// The bytes choose two shapes (sphere, box, capsule, cylinder, cone or a hull
+// of up to 12 points, each with a margin), their sizes (sometimes negative,
+// NaN or infinite, spanning 1e-4 .. 1e4), and two poses (quaternions that
+// may be zero or NaN, translations up to 1e6). Checked, for every input and
+// both orders (A, B) and (B, A):
+//   - every output field is finite, whatever the status;
+//   - invalid shapes or poses give invalid_input, valid ones never do;
+//   - when both orders answer ok: the distances agree within the pair's
+//     tolerance plus the reported error bounds, and so do the signed
+//     penetration distances; intersect agrees with them away from touching;
+//   - ok answers keep point_b - point_a = distance * normal and a unit normal.
+// The tolerance is 1e-9 of the pair's size plus the rounding of its world
+// coordinates (64 eps of the largest coordinate).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <hedra/collision/query.hpp>
+#include <limits>
+#include <vector>
+
+#include "fuzz_input.hpp"
+
+namespace {
+
+using hedra::collision::Pose;
+using hedra::collision::Shape;
+using hedra::collision::Status;
+using Vec = Eigen::Vector3d;
+
+double size_value(hedra::fuzz::FuzzInput& in, bool allow_bad) {
+  if (allow_bad && in.byte() % 16 == 0) return in.any_double();  // negative, NaN, inf, 1e300...
+  const double mantissa = 0.05 + std::fabs(in.finite_double(8.0));
+  const int decade = static_cast<int>(in.byte() % 9) - 4;  // 1e-4 .. 1e4
+  return mantissa * std::pow(10.0, decade);
+}
+
+bool make_shape(hedra::fuzz::FuzzInput& in, Shape& shape) {
+  const bool allow_bad = in.byte() % 8 == 0;
+  const double margin = (in.byte() % 4 == 0) ? size_value(in, allow_bad) * 0.1 : 0.0;
+  switch (in.byte() % 6) {
+    case 0:
+      shape = hedra::collision::Sphere{size_value(in, allow_bad), margin};
+      return true;
+    case 1:
+      shape = hedra::collision::Box{
+          Vec(size_value(in, allow_bad), size_value(in, allow_bad), size_value(in, allow_bad)), margin};
+      return true;
+    case 2:
+      shape = hedra::collision::Capsule{size_value(in, allow_bad), size_value(in, allow_bad), margin};
+      return true;
+    case 3:
+      shape = hedra::collision::Cylinder{size_value(in, allow_bad), size_value(in, allow_bad), margin};
+      return true;
+    case 4:
+      shape = hedra::collision::Cone{size_value(in, allow_bad), size_value(in, allow_bad), margin};
+      return true;
+    default: {
+      const double scale = size_value(in, false);
+      std::vector<Vec> points(1 + in.byte() % 12);
+      for (Vec& p : points) p = Vec(in.finite_double(4.0), in.finite_double(4.0), in.finite_double(4.0)) * scale;
+      const auto built = hedra::collision::ConvexPolyhedron::build(points);
+      HEDRA_FUZZ_CHECK(built.ok(), "hull of %zu finite points failed: %s", points.size(), built.message.c_str());
+      shape = hedra::collision::Polyhedron{built.polyhedron, margin};
+      return true;
+    }
+  }
+}
+
+Pose make_pose(hedra::fuzz::FuzzInput& in) {
+  Eigen::Quaterniond q;
+  if (in.byte() % 16 == 0) {
+    q = Eigen::Quaterniond(in.any_double(), in.any_double(), in.any_double(), in.any_double());
+  } else {
+    q = Eigen::Quaterniond(in.finite_double(2.0), in.finite_double(2.0), in.finite_double(2.0), in.finite_double(2.0));
+    if (q.squaredNorm() == 0.0) q = Eigen::Quaterniond::Identity();
+  }
+  Vec t(in.finite_double(8.0), in.finite_double(8.0), in.finite_double(8.0));
+  if (in.byte() % 8 == 0) t += Vec::Constant(std::pow(10.0, in.byte() % 7));  // up to 1e6 from the origin
+  if (in.byte() % 32 == 0) t.x() = in.any_double();
+  return Pose::from_quaternion(q, t);
+}
+
+bool finite(const Vec& v) { return v.allFinite(); }
+
+// Replaying a finding (HEDRA_FUZZ_VERBOSE set): the pair at full precision.
+struct Describe {
+  void operator()(const hedra::collision::Sphere& s) const { std::fprintf(stderr, "sphere r=%.17g", s.radius); }
+  void operator()(const hedra::collision::Box& s) const {
+    std::fprintf(stderr, "box h=(%.17g, %.17g, %.17g)", s.half_extents.x(), s.half_extents.y(), s.half_extents.z());
+  }
+  void operator()(const hedra::collision::Capsule& s) const {
+    std::fprintf(stderr, "capsule h=%.17g r=%.17g", s.half_length, s.radius);
+  }
+  void operator()(const hedra::collision::Cylinder& s) const {
+    std::fprintf(stderr, "cylinder r=%.17g h=%.17g", s.radius, s.half_length);
+  }
+  void operator()(const hedra::collision::Cone& s) const {
+    std::fprintf(stderr, "cone r=%.17g h=%.17g", s.radius, s.half_length);
+  }
+  void operator()(const hedra::collision::Polyhedron& s) const {
+    std::fprintf(stderr, "hull of %zu vertices:", s.hull->vertex_count());
+    for (const Vec& v : s.hull->vertices()) {
+      const Vec p = v + s.hull->offset();
+      std::fprintf(stderr, " {%.17g, %.17g, %.17g}", p.x(), p.y(), p.z());
+    }
+  }
+};
+
+void describe(const char* name, const Shape& s, const Pose& pose) {
+  std::fprintf(stderr, "%s: ", name);
+  std::visit(Describe{}, s);
+  std::visit([](const auto& shape) { std::fprintf(stderr, " margin=%.17g", shape.margin); }, s);
+  const Eigen::Quaterniond q(pose.rotation);
+  std::fprintf(stderr, "\n  q=(%.17g, %.17g, %.17g, %.17g) t=(%.17g, %.17g, %.17g)\n", q.w(), q.x(), q.y(), q.z(),
+               pose.translation.x(), pose.translation.y(), pose.translation.z());
+}
+
+template <class Result>
+void check_geometry(const Result& r, double tol, const char* what) {
+  HEDRA_FUZZ_CHECK(std::isfinite(r.distance) && std::isfinite(r.error_bound) && finite(r.normal) && finite(r.point_a) &&
+                       finite(r.point_b),
+                   "%s: non-finite output (status %s)", what, to_string(r.status));
+  if (r.status != Status::ok) return;
+  const bool has_normal = r.normal.squaredNorm() > 0.0;
+  if (has_normal) {
+    HEDRA_FUZZ_CHECK(std::fabs(r.normal.norm() - 1.0) < 1e-9, "%s: normal of length %.17g", what, r.normal.norm());
+    const Vec gap = r.point_b - r.point_a - r.distance * r.normal;
+    HEDRA_FUZZ_CHECK(gap.norm() <= tol + r.error_bound, "%s: point_b - point_a - distance*normal = %.3g (tol %.3g)",
+                     what, gap.norm(), tol);
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  hedra::fuzz::FuzzInput in(data, size);
+  Shape a, b;
+  make_shape(in, a);
+  make_shape(in, b);
+  const Pose pose_a = make_pose(in);
+  const Pose pose_b = make_pose(in);
+  if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
+    describe("a", a, pose_a);
+    describe("b", b, pose_b);
+  }
+  const bool valid = validate(a).ok() && validate(b).ok() && pose_a.valid() && pose_b.valid();
+
+  const hedra::collision::IntersectResult i_ab = intersect(a, pose_a, b, pose_b);
+  const hedra::collision::DistanceResult d_ab = distance(a, pose_a, b, pose_b);
+  const hedra::collision::DistanceResult d_ba = distance(b, pose_b, a, pose_a);
+  const hedra::collision::PenetrationResult p_ab = penetration(a, pose_a, b, pose_b);
+  const hedra::collision::PenetrationResult p_ba = penetration(b, pose_b, a, pose_a);
+
+  if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
+    std::fprintf(stderr, "intersect %d (%s, %d iterations)\n", i_ab.intersecting, to_string(i_ab.status),
+                 i_ab.iterations);
+    std::fprintf(stderr, "distance %.17g / %.17g (%s / %s)\n", d_ab.distance, d_ba.distance, to_string(d_ab.status),
+                 to_string(d_ba.status));
+    std::fprintf(stderr, "penetration %.17g / %.17g (%s / %s)\n", p_ab.distance, p_ba.distance, to_string(p_ab.status),
+                 to_string(p_ba.status));
+  }
+  if (!valid) {
+    HEDRA_FUZZ_CHECK(i_ab.status == Status::invalid_input && d_ab.status == Status::invalid_input &&
+                         p_ab.status == Status::invalid_input && d_ba.status == Status::invalid_input &&
+                         p_ba.status == Status::invalid_input,
+                     "invalid input answered %s / %s / %s", to_string(i_ab.status), to_string(d_ab.status),
+                     to_string(p_ab.status));
+  } else {
+    HEDRA_FUZZ_CHECK(i_ab.status != Status::invalid_input && d_ab.status != Status::invalid_input &&
+                         p_ab.status != Status::invalid_input,
+                     "valid input called invalid");
+  }
+  if (!valid) {
+    check_geometry(d_ab, 0.0, "distance(a,b)");
+    check_geometry(p_ab, 0.0, "penetration(a,b)");
+    return 0;
+  }
+
+  const double size_scale = std::max(bounding_radius(a), bounding_radius(b));
+  // How far from the world origin the shapes reach (a polyhedron sits at its
+  // offset in its own frame): the world witness points round at that scale.
+  auto reach = [](const Shape& s, const Pose& pose) {
+    double offset = 0.0;
+    if (const auto* poly = std::get_if<hedra::collision::Polyhedron>(&s)) offset = poly->hull->offset().norm();
+    return pose.translation.norm() + offset + bounding_radius(s);
+  };
+  const double coordinates = std::max(reach(a, pose_a), reach(b, pose_b));
+  const double tol = 1e-9 * size_scale + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
+
+  check_geometry(d_ab, tol, "distance(a,b)");
+  check_geometry(d_ba, tol, "distance(b,a)");
+  check_geometry(p_ab, tol, "penetration(a,b)");
+  check_geometry(p_ba, tol, "penetration(b,a)");
+
+  if (d_ab.status == Status::ok && d_ba.status == Status::ok) {
+    HEDRA_FUZZ_CHECK(d_ab.distance >= 0.0, "negative distance %.17g", d_ab.distance);
+    HEDRA_FUZZ_CHECK(std::fabs(d_ab.distance - d_ba.distance) <= tol + d_ab.error_bound + d_ba.error_bound,
+                     "distance not symmetric: %.17g vs %.17g (tol %.3g)", d_ab.distance, d_ba.distance, tol);
+  }
+  if (p_ab.status == Status::ok && p_ba.status == Status::ok) {
+    HEDRA_FUZZ_CHECK(std::fabs(p_ab.distance - p_ba.distance) <= tol + p_ab.error_bound + p_ba.error_bound,
+                     "signed distance not symmetric: %.17g vs %.17g (tol %.3g, bounds %.3g %.3g)", p_ab.distance,
+                     p_ba.distance, tol, p_ab.error_bound, p_ba.error_bound);
+  }
+  if (i_ab.status == Status::ok && d_ab.status == Status::ok && d_ab.distance > tol + d_ab.error_bound) {
+    HEDRA_FUZZ_CHECK(!i_ab.intersecting, "intersect says overlapping at distance %.17g", d_ab.distance);
+  }
+  if (i_ab.status == Status::ok && p_ab.status == Status::ok && p_ab.distance < -(tol + p_ab.error_bound)) {
+    HEDRA_FUZZ_CHECK(i_ab.intersecting, "intersect says separated at depth %.17g", -p_ab.distance);
+  }
+  if (d_ab.status == Status::ok && p_ab.status == Status::ok && d_ab.distance > tol + d_ab.error_bound) {
+    HEDRA_FUZZ_CHECK(std::fabs(d_ab.distance - p_ab.distance) <= tol + d_ab.error_bound + p_ab.error_bound,
+                     "distance %.17g but penetration %.17g", d_ab.distance, p_ab.distance);
+  }
+  return 0;
+}
