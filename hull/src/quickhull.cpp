@@ -977,8 +977,15 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
   if (collapsed) return;  // nothing trustworthy to compact; the caller retries
   compact(input, r);
   r.mesh.set_tolerance(mesh_tolerance);
-  // The structure is correct by construction; debug builds prove it.
-  HEDRA_ASSERT(r.status != QuickhullStatus::ok || r.mesh.validate(mesh_tolerance, false).ok());
+  // The output must pass the validator (O(E) form) at its own tolerance;
+  // if rounding in ill-conditioned input defeated the checks above (found by
+  // fuzzing: three near-duplicates 2e-17 apart on a ray gave a sliver whose
+  // world-coordinate plane came out wound against its polygon), the caller
+  // retries at a larger eps.
+  if (r.status == QuickhullStatus::ok && !r.mesh.validate(mesh_tolerance, false).ok()) {
+    r.status = QuickhullStatus::topology_failure;
+    r.error = "output failed validation at tolerance " + std::to_string(eps);
+  }
 }
 
 void QuickhullBuilder::Impl::compact(const Eigen::Vector3d* input, QuickhullResult& r) {
