@@ -530,25 +530,48 @@ struct QuickhullBuilder::Impl {
       if (xy[a].y() != xy[b].y()) return xy[a].y() < xy[b].y();
       return a < b;
     });
-    // Keep `a` between o and p only if it is more than eps left of o->p.
+    // Andrew's chain with the plain sign of the cross product: a convex
+    // ring with every extreme point, however close to collinear.
     auto keeps = [&](Index o, Index a, Index p) {
       const Eigen::Vector2d w = xy[p] - xy[o], s = xy[a] - xy[o];
-      const double cross = w.x() * s.y() - w.y() * s.x();  // > 0: a left of o->p
-      return cross > eps * w.norm();
+      return w.x() * s.y() - w.y() * s.x() > 0.0;  // a strictly left of o->p
     };
     ring.clear();
     for (Index k = 0; k < n; ++k) {
       while (ring.size() >= 2 && !keeps(ring[ring.size() - 2], ring.back(), order[k])) ring.pop_back();
-      if (ring.empty() || (xy[ring.back()] - xy[order[k]]).norm() > eps) ring.push_back(order[k]);
+      if (ring.empty() || xy[ring.back()] != xy[order[k]]) ring.push_back(order[k]);
     }
     const std::size_t lower = ring.size();
     for (Index k = n; k-- > 0;) {
       while (ring.size() > lower && !keeps(ring[ring.size() - 2], ring.back(), order[k])) ring.pop_back();
-      if ((xy[ring.back()] - xy[order[k]]).norm() > eps) ring.push_back(order[k]);
+      if (xy[ring.back()] != xy[order[k]]) ring.push_back(order[k]);
     }
     // The upper chain ends at the first point again.
     if (ring.size() > 1 && ring.back() == ring.front()) ring.pop_back();
-    if (ring.size() > 1 && (xy[ring.back()] - xy[ring.front()]).norm() <= eps) ring.pop_back();
+    // Then drop, one at a time, every vertex within eps of the chord of its
+    // neighbours (near-duplicates and near-collinear runs): the dropped point
+    // stays within eps of the ring. Deciding collinearity on the finished
+    // ring rather than while chaining matters: chaining with an eps test
+    // dropped a true corner whose x tied with its neighbour's after a
+    // projection basis tilted by 1e-10 rad (found by fuzzing).
+    for (std::size_t pass = 0, removed = 1; removed > 0 && ring.size() > 2 && pass <= n; ++pass) {
+      removed = 0;
+      for (std::size_t i = 0; i < ring.size() && ring.size() > 2;) {
+        const Eigen::Vector2d& o = xy[ring[(i + ring.size() - 1) % ring.size()]];
+        const Eigen::Vector2d& a = xy[ring[i]];
+        const Eigen::Vector2d& p = xy[ring[(i + 1) % ring.size()]];
+        const Eigen::Vector2d w = p - o, s = a - o;
+        const double length = w.norm();
+        const bool near_chord = std::abs(w.x() * s.y() - w.y() * s.x()) <= eps * length;
+        const double along = s.dot(w);
+        if ((near_chord && along >= 0.0 && along <= length * length) || s.norm() <= eps || (a - p).norm() <= eps) {
+          ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(i));
+          ++removed;
+        } else {
+          ++i;
+        }
+      }
+    }
   }
 
   // Consistency of the working structure (debugging aid): "" when sound.
