@@ -131,7 +131,7 @@ int run_check(const CheckOptions& options, std::string& out, std::ostream& err) 
              scene.bodies[q.a].name + "-" + scene.bodies[q.b].name + " " + to_string(q.type) + ": " + detail + "\n";
     }
   }
-  out += std::to_string(passed + failed) + " queries in " + std::to_string(scenes.size()) +
+  out += std::to_string(passed + failed) + (passed + failed == 1 ? " query in " : " queries in ") + std::to_string(scenes.size()) +
          (scenes.size() == 1 ? " scene: " : " scenes: ") + std::to_string(passed) + " passed, " +
          std::to_string(failed) + " failed\n";
   return failed == 0 ? kExitOk : kExitCheckFailed;

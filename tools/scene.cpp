@@ -440,10 +440,16 @@ std::string line_column(const std::string& text, std::size_t offset) {
 // nlohmann's message without its "[json.exception...] parse error at line
 // L, column C: " prefix (the location is computed above).
 std::string parse_reason(const char* what) {
-  const std::string message = what;
-  const std::size_t at = message.find("parse error");
-  const std::size_t colon = at == std::string::npos ? std::string::npos : message.find(": ", at);
-  return colon == std::string::npos ? message : message.substr(colon + 2);
+  std::string message = what;
+  if (message.rfind("[json.exception.", 0) == 0) {
+    const std::size_t close = message.find("] ");
+    if (close != std::string::npos) message = message.substr(close + 2);
+  }
+  if (message.rfind("parse error", 0) == 0) {
+    const std::size_t colon = message.find(": ");
+    if (colon != std::string::npos) message = message.substr(colon + 2);
+  }
+  return message;
 }
 
 }  // namespace
@@ -456,6 +462,16 @@ LoadSceneResult parse_scene(const std::string& text, const std::string& file) {
     document = json::parse(text, std::ref(duplicates));
   } catch (const json::parse_error& error) {
     result.error = file + ":" + line_column(text, error.byte) + ": malformed JSON: " + parse_reason(error.what());
+    return result;
+  } catch (const json::out_of_range& error) {
+    // A number too large for a double ("number overflow parsing '1e999'"):
+    // nlohmann gives no position, so locate the token it quotes.
+    const std::string message = error.what();
+    const std::size_t open = message.find('\'');
+    const std::size_t close = open == std::string::npos ? open : message.find('\'', open + 1);
+    const std::size_t at = close == std::string::npos ? close : text.find(message.substr(open + 1, close - open - 1));
+    result.error = file + (at == std::string::npos ? "" : ":" + line_column(text, at + 1)) +
+                   ": malformed JSON: " + parse_reason(error.what()) + " (not a finite double)";
     return result;
   } catch (const json::exception& error) {
     result.error = file + ": malformed JSON: " + error.what();
