@@ -89,7 +89,10 @@ QueryOutcome run_penetration(const collision::Shape& a, const collision::Pose& p
   out.intersecting = r.intersecting;
   out.gjk_iterations = r.gjk_iterations;
   out.epa_iterations = r.epa_iterations;
-  out.epa_ran = r.epa_iterations > 0;  // PenetrationResult: 0 when EPA did not run
+  // PenetrationResult reports EPA only through its iteration count, so this
+  // reads "EPA expanded": an EPA entered on touching cores that answers from
+  // a flat GJK simplex without one expansion shows as not run.
+  out.epa_ran = r.epa_iterations > 0;
   out.error_bound = std::isfinite(r.error_bound) ? r.error_bound : 0.0;
   // Outputs are finite (best so far) for every status but these two.
   const bool defined = r.status != collision::Status::degenerate && r.status != collision::Status::invalid_input;

@@ -45,7 +45,9 @@ struct QueryOutcome {
   std::vector<ContactPoint> contacts;
   double error_bound = 0.0;  // the library's bound on |distance| error (0 for intersect)
   // Which stages ran (for --stats): GJK always; EPA only in penetration and
-  // contact queries whose cores overlap; the manifold only for contact.
+  // contact queries whose cores overlap or touch (epa_ran: EPA expanded at
+  // least once, the most the library's result tells); the manifold only for
+  // contact.
   int gjk_iterations = 0;
   int epa_iterations = 0;
   bool epa_ran = false;
