@@ -35,7 +35,8 @@ Eigen::Vector3d vec(const nlohmann::json& v) { return {v[0].get<double>(), v[1].
 
 TEST_F(SceneCli, MalformedJsonNamesLineAndColumn) {
   const std::string file = write("bad.json", "{\"hedra_scene\": 1,\n  \"shapes\": {\n    \"s\" {}\n}}\n");
-  expect_bad({"query", file}, {file + ":3:", "malformed JSON"});
+  // The '{' where ':' belongs: line 3, column 9.
+  expect_bad({"query", file}, {file + ":3:9: malformed JSON: ", "expected ':'"});
   expect_bad({"check", file}, {file + ":3:"});
 }
 
