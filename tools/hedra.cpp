@@ -15,6 +15,7 @@
 
 #include "command.hpp"
 #include "hull_command.hpp"
+#include "view/view_command.hpp"
 
 #ifndef HEDRA_VERSION
 #  define HEDRA_VERSION "unknown"
@@ -27,6 +28,7 @@ using AddSubcommand = hedra::tool::Subcommand (*)(CLI::App&);
 // One line per subcommand.
 constexpr AddSubcommand kSubcommands[] = {
     &hedra::tool::add_hull_command,
+    &hedra::tool::add_view_command,
 };
 
 int run(int argc, char** argv) {
