@@ -195,7 +195,7 @@
   scene.background = new THREE.Color(0xf3f4f6);
   const camera = new THREE.PerspectiveCamera(40, 1, radius * 1e-3, radius * 1e3);
   camera.up.set(0, 0, 1);  // shapes' axes are local z; draw world z up
-  camera.position.set(radius * 1.7, -radius * 2.4, radius * 1.3);
+  camera.position.set(radius * 1.45, -radius * 2.05, radius * 1.1);
   scene.add(camera);
   scene.add(new THREE.AmbientLight(0xffffff, 0.55));
   const light = new THREE.DirectionalLight(0xffffff, 0.6);
@@ -270,7 +270,10 @@
       group.add(new THREE.Points(pointGeometry(points), new THREE.PointsMaterial({color: color, size: 7,
         sizeAttenuation: false})));
     }
-    view.edgeMaterial = new THREE.LineBasicMaterial({color: darker(color, 0.6), transparent: true, opacity: 1});
+    // Curved surfaces have many polygons: their edges are drawn fainter.
+    view.edgeOpacity = b.mesh.faces.length > 100 ? 0.35 : 1;
+    view.edgeMaterial = new THREE.LineBasicMaterial({color: darker(color, 0.6), transparent: true,
+      opacity: view.edgeOpacity});
     group.add(new THREE.LineSegments(segmentGeometry(points, b.mesh.edges), view.edgeMaterial));
     if (b.core && b.core.edges) {
       const corePoints = b.core.vertices.map(local);
@@ -407,7 +410,7 @@
     bodyViews.forEach((view, i) => {
       const involved = !q || bodies[i].name === q.a || bodies[i].name === q.b;
       if (view.faceMaterial) view.faceMaterial.opacity = !q ? 0.32 : involved ? 0.45 : 0.05;
-      view.edgeMaterial.opacity = involved ? 1 : 0.15;
+      view.edgeMaterial.opacity = involved ? view.edgeOpacity : 0.1;
       if (view.coreMaterial) view.coreMaterial.opacity = involved ? 0.7 : 0.1;
     });
     queryViews.forEach((view, i) => {
@@ -485,7 +488,7 @@
       const start = a.clone().addScaledVector(span, 0.08);
       const length = span.length() * 0.84;
       if (!(length > 0)) return;
-      const head = Math.min(length * 0.3, radius * 0.06);
+      const head = Math.min(length * 0.35, radius * 0.08);
       faceHighlight.add(new THREE.ArrowHelper(span.normalize(), start, length, colorHalfEdge, head, head * 0.5));
       addLabel('e' + e, a.clone().lerp(b, 0.5));
     });
