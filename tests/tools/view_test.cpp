@@ -388,7 +388,7 @@ ViewModel demo_scene() {
     model.queries.back().contacts.push_back({p, -p.z()});
   }
   add_distance(3, 1);                    // pill - crate
-  add_penetration(0, 4, "penetration");  // ground - can (the can's margin reaches into the ground)
+  add_penetration(0, 4, "penetration");  // ground - can: a hair apart, a positive signed distance
   add_distance(5, 3);                    // tip - pill
   add_distance(6, 2);                    // rock - ball
   tool::view::ViewQuery intersect;

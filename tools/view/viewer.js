@@ -417,6 +417,7 @@
       view.group.visible = !q || i === selectedQuery;
     });
     queryItems.forEach((item, i) => item.classList.toggle('selected', i === selectedQuery));
+    if (q) queryItems[selectedQuery].scrollIntoView({block: 'nearest'});
     clearLabels();
     bodyViews.forEach((view, i) => {
       if (!q || bodies[i].name === q.a || bodies[i].name === q.b) addLabel(bodies[i].name, view.centroid, 'body');
