@@ -195,7 +195,13 @@
   scene.background = new THREE.Color(0xf3f4f6);
   const camera = new THREE.PerspectiveCamera(40, 1, radius * 1e-3, radius * 1e3);
   camera.up.set(0, 0, 1);  // shapes' axes are local z; draw world z up
-  camera.position.set(radius * 1.45, -radius * 2.05, radius * 1.1);
+  // Far enough for the bounding sphere to fit the narrower field of view.
+  {
+    const aspect = Math.max(viewport.clientWidth, 1) / Math.max(viewport.clientHeight, 1);
+    const halfFov = camera.fov / 2 * Math.PI / 180;
+    const half = Math.min(halfFov, Math.atan(Math.tan(halfFov) * aspect));
+    camera.position.set(1.45, -2.05, 1.1).normalize().multiplyScalar(1.05 * radius / Math.sin(half));
+  }
   scene.add(camera);
   scene.add(new THREE.AmbientLight(0xffffff, 0.55));
   const light = new THREE.DirectionalLight(0xffffff, 0.6);
