@@ -18,6 +18,9 @@
 #include <vector>
 
 #include "atomic_file.hpp"
+#if __has_include("scene_runner.hpp")
+#  include "scene_runner.hpp"
+#endif
 #include "view/tessellate.hpp"
 #include "view/view_html.hpp"
 
@@ -43,25 +46,74 @@ std::string default_output(const std::string& input) { return std::filesystem::p
 namespace view {
 
 // ---------------------------------------------------------------------------
-// MERGE POINT (scene parser). The scene parser (tools/scene.hpp, branch
-// `scene`) is written in parallel; until it is merged, scene files cannot be
-// read here and `hedra view SCENE` exits 2 with the message below. To
-// connect it: parse the scene with the parser (its error message goes to
-// `error` unchanged), then
-//   ViewModel model; model.title = <scene name, or the file name>;
-//   for each body: make_view_body(name, shape, pose, body, error) (returns
-//     false on an undrawable shape) and push it to model.bodies;
-//   for each query: run it as `hedra query` does and fill a ViewQuery
-//     (a, b, type, status word, and the fields its type produces; leave the
-//     others empty: they print as n/a), contacts as {point, depth};
-//   return model.
+// MERGE POINT (scene parser). The scene parser (tools/scene.hpp and
+// tools/scene_runner.hpp, branch `scene`) is written in parallel. Once it is
+// in the tree, the first branch below compiles: it loads the scene with the
+// same validation and messages as `hedra query`, builds every body's shape
+// (all of them, not only those the queries use: the viewer draws them all),
+// runs every query as `hedra query` does and fills the view. Without it,
+// `hedra view SCENE` exits 2 with the message of the second branch.
 // ---------------------------------------------------------------------------
+#if __has_include("scene_runner.hpp")
+std::optional<ViewModel> build_scene_view_model(const std::string& scene_path, std::string& error) {
+  const LoadSceneResult loaded = load_scene(scene_path);
+  if (!loaded.ok()) {
+    error = loaded.error;
+    return std::nullopt;
+  }
+  const Scene& scene = *loaded.scene;
+  if (std::string unavailable = unavailable_query(scene); !unavailable.empty()) {
+    error = unavailable;
+    return std::nullopt;
+  }
+  const BuildShapesResult built = build_shapes(scene, /*all_shapes=*/true);
+  if (!built.ok()) {
+    error = built.error;
+    return std::nullopt;
+  }
+  ViewModel model;
+  model.title = scene.name;
+  if (!scene.description.empty()) model.notes.push_back(scene.description);
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const BodySpec& spec = scene.bodies[i];
+    const std::optional<collision::Shape>& shape = built.built->shapes[spec.shape];
+    ViewBody body;
+    std::string why;
+    if (!shape) {
+      why = "body " + spec.name + ": its shape was not built";
+    } else if (make_view_body(spec.name, *shape, built.built->poses[i], body, why)) {
+      model.bodies.push_back(std::move(body));
+      continue;
+    }
+    error = scene.file + ": bodies." + spec.name + ": cannot draw: " + why;
+    return std::nullopt;
+  }
+  for (std::size_t i = 0; i < scene.queries.size(); ++i) {
+    const QuerySpec& spec = scene.queries[i];
+    const QueryOutcome outcome = run_query(*built.built, i);
+    ViewQuery query;
+    query.a = scene.bodies[spec.a].name;
+    query.b = scene.bodies[spec.b].name;
+    query.type = to_string(spec.type);
+    query.status = outcome.status;
+    if (outcome.ok()) query.intersecting = outcome.intersecting;
+    query.distance = outcome.distance;
+    query.point_a = outcome.point_a;
+    query.point_b = outcome.point_b;
+    query.normal = outcome.normal;
+    for (const ContactPoint& contact : outcome.contacts) query.contacts.push_back({contact.point, contact.depth});
+    model.queries.push_back(std::move(query));
+  }
+  return model;
+}
+#else
 std::optional<ViewModel> build_scene_view_model(const std::string& scene_path, std::string& error) {
   error = scene_path +
           ": scene viewing needs the scene parser, which this build of hedra does not have yet (use "
           "`hedra view --hull POINTS` for a point file)";
   return std::nullopt;
 }
+#endif
 
 std::optional<ViewModel> build_hull_view_model(const std::string& input, std::string& error, int& exit_code) {
   exit_code = kExitBadInput;
