@@ -537,6 +537,55 @@ TEST(ViewCli, BadInputExitsTwoAndLeavesNothing) {
   }
 }
 
+#if __has_include("scene_runner.hpp")
+// With the scene parser in the tree: the scene form draws every body and
+// every query of a scene file, with the names and results `hedra query` gives.
+const std::string kDemoScene = std::string(HEDRA_SOURCE_DIR) + "/scenes/demo.json";
+
+TEST(ViewCli, ScenePageHoldsEveryBodyAndQuery) {
+  if (!tool::view::three_js_available()) GTEST_SKIP() << tool::view::three_js_missing_message();
+  ScratchDir dir;
+  const fs::path page = dir.path() / "demo.html";
+  const RunResult result = run({HEDRA_EXE, "view", kDemoScene, "-o", page.string()}, dir.path());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string html = slurp(page);
+  const std::string open = "id=\"hedra-data\">";
+  const std::size_t begin = html.find(open) + open.size();
+  const nlohmann::json data = nlohmann::json::parse(html.substr(begin, html.find("</script>", begin) - begin));
+  const nlohmann::json scene = nlohmann::json::parse(slurp(kDemoScene));
+  ASSERT_EQ(data["bodies"].size(), scene["bodies"].size());
+  for (const nlohmann::json& body : data["bodies"]) {
+    EXPECT_TRUE(scene["bodies"].contains(body["name"].get<std::string>())) << body["name"];
+    EXPECT_FALSE(body["mesh"]["vertices"].empty()) << body["name"];
+  }
+  ASSERT_EQ(data["queries"].size(), scene["queries"].size());
+  const RunResult query = run({HEDRA_EXE, "query", kDemoScene, "--json"}, dir.path());
+  ASSERT_EQ(query.exit_code, 0) << query.err;
+  const nlohmann::json answers = nlohmann::json::parse(query.out)["results"];
+  ASSERT_EQ(answers.size(), data["queries"].size());
+  for (std::size_t i = 0; i < answers.size(); ++i) {
+    const nlohmann::json& q = data["queries"][i];
+    EXPECT_EQ(q["a"], scene["queries"][i]["a"]);
+    EXPECT_EQ(q["b"], scene["queries"][i]["b"]);
+    EXPECT_EQ(q["type"], scene["queries"][i]["type"]);
+    EXPECT_EQ(q["status"], answers[i]["status"]);
+    EXPECT_EQ(q["distance"], answers[i]["distance"]) << "query " << i;
+    EXPECT_EQ(q["normal"], answers[i]["normal"]) << "query " << i;
+  }
+}
+#else
+TEST(ViewCli, SceneFormNeedsTheSceneParser) {
+  if (!tool::view::three_js_available()) GTEST_SKIP() << tool::view::three_js_missing_message();
+  ScratchDir dir;
+  std::ofstream(dir.path() / "scene.json") << "{\"hedra_scene\": 1}";
+  const RunResult result = run(
+      {HEDRA_EXE, "view", (dir.path() / "scene.json").string(), "-o", (dir.path() / "x.html").string()}, dir.path());
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("scene viewing needs the scene parser"), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "x.html"));
+}
+#endif
+
 // ---- in a browser ---------------------------------------------------------------
 
 // The model's JSON as the page carries it.
@@ -605,6 +654,26 @@ TEST(ViewBrowser, ScenePageRendersWithoutErrors) {
   if (code == kSkip) GTEST_SKIP() << output;
   EXPECT_EQ(code, 0) << output;
 }
+
+#if __has_include("scene_runner.hpp")
+TEST(ViewBrowser, SceneFilePageRendersWithoutErrors) {
+  if (!tool::view::three_js_available()) GTEST_SKIP() << tool::view::three_js_missing_message();
+  ScratchDir dir;
+  const fs::path page = dir.path() / "demo_scene.html";
+  const RunResult written = run({HEDRA_EXE, "view", kDemoScene, "-o", page.string()}, dir.path());
+  ASSERT_EQ(written.exit_code, 0) << written.err;
+  const nlohmann::json data = page_data(slurp(page));
+  ASSERT_TRUE(data.is_object());
+  std::string output;
+  const int code =
+      browser_check(page,
+                    {"--fragment=#query=0", "--expect=bodies=" + std::to_string(data["bodies"].size()),
+                     "--expect=queries=" + std::to_string(data["queries"].size()), "--expect=selected-query=0"},
+                    dir.path(), &output);
+  if (code == kSkip) GTEST_SKIP() << output;
+  EXPECT_EQ(code, 0) << output;
+}
+#endif
 
 TEST(ViewBrowser, CheckerRejectsABlankPageThatThrows) {
   // The same check must fail on a page that reports ready but draws nothing

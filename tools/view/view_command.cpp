@@ -73,7 +73,7 @@ std::optional<ViewModel> build_scene_view_model(const std::string& scene_path, s
   }
   ViewModel model;
   model.title = scene.name;
-  if (!scene.description.empty()) model.notes.push_back(scene.description);
+  model.description = scene.description;
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     const BodySpec& spec = scene.bodies[i];
     const std::optional<collision::Shape>& shape = built.built->shapes[spec.shape];

@@ -42,6 +42,7 @@ Json mesh_json(const PolygonMesh& mesh) {
 Json model_json(const ViewModel& model) {
   Json document;
   document["title"] = model.title;
+  document["description"] = model.description;
   document["notes"] = model.notes;
   Json bodies = Json::array();
   for (const ViewBody& body : model.bodies) {

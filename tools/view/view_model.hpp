@@ -86,6 +86,7 @@ struct ViewHull {
 
 struct ViewModel {
   std::string title;
+  std::string description;  // a scene's "description", shown under the title
   std::vector<ViewBody> bodies;
   std::vector<ViewQuery> queries;
   std::optional<ViewHull> hull;

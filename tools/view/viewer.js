@@ -95,6 +95,7 @@
   panel.appendChild(
     el('div', 'help', 'Drag: orbit · right-drag or shift-drag: pan · wheel: zoom · ' +
       (hull ? 'click a face to list its half-edges.' : 'click a query to show only it and highlight its pair.')));
+  if (data.description) panel.appendChild(el('p', 'description', data.description));
   (data.notes || []).forEach((n) => panel.appendChild(el('div', 'note', n)));
 
   const queryItems = [];
