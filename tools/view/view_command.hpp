@@ -19,7 +19,8 @@ namespace view {
 // The view of a scene file: every body tessellated in the world frame
 // (make_view_body in tessellate.hpp) and every query's result. Returns
 // nothing and sets `error` ("file: reason", as the scene parser words it)
-// when the scene is bad. Filled in when the scene parser is merged.
+// when the scene is bad. Uses the scene parser (tools/scene_runner.hpp) when
+// it is in the tree; without it, always fails with a message saying so.
 std::optional<ViewModel> build_scene_view_model(const std::string& scene_path, std::string& error);
 
 // The view of the convex hull of the points in `input` (.xyz, .obj, .off).
