@@ -17,6 +17,7 @@
 #include "command.hpp"
 #include "hull_command.hpp"
 #include "query_command.hpp"
+#include "view/view_command.hpp"
 
 #ifndef HEDRA_VERSION
 #  define HEDRA_VERSION "unknown"
@@ -31,6 +32,7 @@ constexpr AddSubcommand kSubcommands[] = {
     &hedra::tool::add_hull_command,
     &hedra::tool::add_query_command,
     &hedra::tool::add_check_command,
+    &hedra::tool::add_view_command,
 };
 
 int run(int argc, char** argv) {
