@@ -137,6 +137,7 @@ double number(const json& value, const std::string& path) {
 double non_negative(const json& value, const std::string& path) {
   const double x = number(value, path);
   if (x < 0.0) fail(path, "negative (" + format_number(x) + "), expected >= 0");
+  if (x > collision::max_shape_size) fail(path, "too large (" + format_number(x) + "), expected at most " + "1e60");
   return x;
 }
 
@@ -235,8 +236,13 @@ BodySpec read_body(const std::string& name, const json& value, const std::string
   const std::string shape = string(require(value, path, "shape"), member(path, "shape"));
   body.shape = find_index(shape_names, shape);
   if (body.shape == shape_names.size()) fail(member(path, "shape"), "unknown shape '" + shape + "'");
-  if (const json* position = optional_member(value, "position"))
+  if (const json* position = optional_member(value, "position")) {
     body.position = vector3(*position, member(path, "position"));
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(body.position[k]) > collision::max_coordinate)
+        fail(element(member(path, "position"), static_cast<std::size_t>(k)),
+             "too far from the origin (" + format_number(body.position[k]) + "), expected |x| <= " + "1e60");
+  }
   if (const json* orientation = optional_member(value, "orientation")) {
     const std::string at = member(path, "orientation");
     Eigen::Vector4d q = numbers<4>(*orientation, at, " [w, x, y, z]");

@@ -52,6 +52,7 @@ bool check_size(double value, const char* what, ShapeValidation& out) {
   }
   if (value > max_shape_size) {
     out = fail(ShapeError::out_of_range, what, value);
+    out.message += " is larger than max_shape_size (1e60)";
     return false;
   }
   return true;
@@ -68,6 +69,7 @@ bool check_margin(double margin, ShapeValidation& out) {
   }
   if (margin > max_shape_size) {
     out = fail(ShapeError::out_of_range, "margin", margin);
+    out.message += " is larger than max_shape_size (1e60)";
     return false;
   }
   return true;

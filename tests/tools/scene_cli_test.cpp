@@ -125,6 +125,22 @@ TEST_F(SceneCli, NegativeSizes) {
   }
 }
 
+// Sizes and positions beyond 1e60 would overflow the squared distances of a
+// query (found by fuzzing the library): rejected where they are written.
+TEST_F(SceneCli, SizesAndPositionsOutOfRange) {
+  const std::string big = write(
+      "big.json", scene(R"({"ball": {"type": "box", "half_extents": [1e300, 1, 1]}})", kTwoBallBodies, kBallQuery));
+  expect_bad({"query", big}, {big + ": shapes.ball.half_extents[0]: too large", "at most 1e60"});
+  const std::string far = write(
+      "far.json",
+      scene(kTwoBalls, R"({"p": {"shape": "ball", "position": [0, -1e70, 0]}, "q": {"shape": "ball"}})", kBallQuery));
+  expect_bad({"query", far}, {far + ": bodies.p.position[1]: too far from the origin"});
+  const std::string wide =
+      write("wide.json",
+            scene(R"({"ball": {"type": "hull", "points": [[0,0,0],[1e61,0,0],[0,1,0]]}})", kTwoBallBodies, kBallQuery));
+  expect_bad({"query", wide}, {wide + ": shapes.ball", "more than 1e60 apart"});
+}
+
 TEST_F(SceneCli, WrongValueTypes) {
   const std::string file =
       write("t.json", scene(R"({"ball": {"type": "sphere", "radius": "1"}})", kTwoBallBodies, kBallQuery));
