@@ -353,7 +353,15 @@ void solid_case(CoreAnswer& out, const Diff& diff) {
       const double dist = v.norm();
       if (dist < best) {
         best = dist;
-        out.normal = dist > 0 ? Vec(-v / dist) : Vec::UnitZ();
+        // Inside the facet's face region the facet's own plane normal (from
+        // qhull, accurate to rounding of D's size) is the normal; -v/|v|
+        // loses eps * size / |v| of angle when |v| is small.
+        // On a shared edge of a merged facet's triangles the two agree to
+        // within that rounding: the plane normal is taken then too.
+        const Vec plane_normal = h.triangle_planes[f].head<3>();
+        const bool face_region = (wts[0] > 0 && wts[1] > 0 && wts[2] > 0) ||
+                                 (dist > 0 && (v / dist + plane_normal).norm() * dist <= out.tolerance);
+        out.normal = face_region ? plane_normal : dist > 0 ? Vec(-v / dist) : Vec::UnitZ();
         set_witness(out, diff, {{std::size_t(t[0]), wts[0]}, {std::size_t(t[1]), wts[1]}, {std::size_t(t[2]), wts[2]}});
       }
     }
