@@ -13,8 +13,11 @@
 #include <string>
 #include <vector>
 
+#include "check_command.hpp"
 #include "command.hpp"
 #include "hull_command.hpp"
+#include "query_command.hpp"
+#include "view/view_command.hpp"
 
 #ifndef HEDRA_VERSION
 #  define HEDRA_VERSION "unknown"
@@ -27,6 +30,9 @@ using AddSubcommand = hedra::tool::Subcommand (*)(CLI::App&);
 // One line per subcommand.
 constexpr AddSubcommand kSubcommands[] = {
     &hedra::tool::add_hull_command,
+    &hedra::tool::add_query_command,
+    &hedra::tool::add_check_command,
+    &hedra::tool::add_view_command,
 };
 
 int run(int argc, char** argv) {

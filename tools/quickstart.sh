@@ -21,6 +21,8 @@ packages=(
   libqhull-dev                                   # the exact reference
   libccd-dev libfcl-dev libbullet-dev            # peers (HEDRA_WITH_PEERS)
   python3-matplotlib                             # plots
+  libjs-three                                    # three.js, embedded into `hedra view` pages
+  chromium                                       # headless browser for the `hedra view` page tests
 )
 
 say() { printf '==> %s\n' "$*"; }

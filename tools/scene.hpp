@@ -1,0 +1,133 @@
+// Scene files (shared/scene-format.md): JSON -> typed shapes, bodies and
+// queries, then the hedra::collision shapes the queries need.
+//
+// Two steps, both returning errors as values:
+//   load_scene(path)        reads and validates the whole document: every
+//                           field's type, count, sign and finiteness, every
+//                           reference between sections, and no unknown key
+//                           (a typo must not be silently ignored; only the
+//                           top-level "name" and "description" are free).
+//   build_shapes(scene)     reads mesh files and builds hulls, only for the
+//                           shapes some query uses (pay only for what is
+//                           asked: a scene of spheres builds no hull), each
+//                           shape once: bodies sharing a hull share its
+//                           ConvexPolyhedron through the shared_ptr.
+// Every message has the form "<file>: <JSON path>: <reason>", e.g.
+//   scene.json: shapes.rock.points[3]: expected 3 numbers
+//   scene.json:4:17: malformed JSON: ...        (line and column, 1-based)
+//   scene.json: shapes.mesh.file: meshes/rock.obj:17: expected 3 numbers ...
+// with <file> the scene path as the caller gave it.
+//
+// All validation lives here, so that `hedra query`, `hedra check` and
+// `hedra view` reject the same files with the same words.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <hedra/collision/query.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hedra::tool {
+
+enum class ShapeKind { sphere, box, capsule, cylinder, cone, hull };
+enum class QueryType { intersect, distance, penetration, contact };
+
+const char* to_string(ShapeKind kind);
+const char* to_string(QueryType type);
+
+struct ShapeSpec {
+  std::string name;  // the key in "shapes"
+  ShapeKind kind = ShapeKind::sphere;
+  double radius = 0.0;                                     // sphere, capsule, cylinder, cone
+  double half_length = 0.0;                                // capsule, cylinder, cone
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();  // box
+  double margin = 0.0;
+  std::vector<Eigen::Vector3d> points;  // hull from "points"
+  std::string file;                     // hull from a mesh "file": the path as written in the scene
+  std::string resolved_file;            // ... and relative to the working directory
+};
+
+struct BodySpec {
+  std::string name;                                                 // the key in "bodies"
+  std::size_t shape = 0;                                            // index into Scene::shapes
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();               // world frame
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // normalised
+  collision::Pose pose() const { return collision::Pose::from_quaternion(orientation, position); }
+};
+
+struct Expectation {
+  std::optional<bool> intersecting;
+  std::optional<double> distance;
+  std::optional<Eigen::Vector3d> normal;  // unit (normalised when read)
+  std::optional<int> contact_count;
+  std::optional<double> tolerance;        // absolute, on distance; default: default_tolerance()
+  std::optional<double> angle_tolerance;  // radians, on normal; default: kDefaultAngleTolerance
+  bool empty() const { return !intersecting && !distance && !normal && !contact_count; }
+};
+
+struct QuerySpec {
+  std::size_t a = 0;  // indices into Scene::bodies
+  std::size_t b = 0;
+  QueryType type = QueryType::distance;
+  std::optional<Expectation> expect;
+};
+
+struct Scene {
+  std::string file;         // the path as given (used in messages)
+  std::string name;         // "name", or the file's stem
+  std::string description;  // may be empty
+  std::vector<ShapeSpec> shapes;
+  std::vector<BodySpec> bodies;
+  std::vector<QuerySpec> queries;
+};
+
+struct LoadSceneResult {
+  std::optional<Scene> scene;
+  std::string error;  // "<file>: <path>: <reason>" when !scene
+  bool ok() const { return scene.has_value(); }
+};
+
+LoadSceneResult load_scene(const std::string& path);
+// The same from text in memory; `file` names it in messages and mesh files
+// resolve relative to its directory.
+LoadSceneResult parse_scene(const std::string& text, const std::string& file);
+
+// The collision shapes of a scene, built lazily.
+struct BuiltScene {
+  const Scene* scene = nullptr;
+  std::vector<std::optional<collision::Shape>> shapes;  // per ShapeSpec; empty when no query uses it
+  std::vector<collision::Pose> poses;                   // per BodySpec
+  int shapes_built = 0;
+  int hulls_built = 0;
+  int mesh_files_read = 0;
+  double build_ns = 0.0;  // reading meshes and building hulls
+};
+
+struct BuildShapesResult {
+  std::optional<BuiltScene> built;
+  std::string error;  // "<file>: shapes.<name>...: <reason>" when !built
+  bool ok() const { return built.has_value(); }
+};
+
+// Builds the shapes used by `scene.queries` (all of them with `all_shapes`,
+// e.g. for a viewer). `scene` must outlive the result.
+BuildShapesResult build_shapes(const Scene& scene, bool all_shapes = false);
+
+// Default expectation tolerances (documented in the README):
+//   distance: kDefaultRelativeTolerance * size of the pair, the size being
+//   the radius of the smallest ball around the midpoint of the two shapes'
+//   centres that holds both bounding balls (margins included), so it grows
+//   with the shapes and with their separation, never with where they sit;
+//   normal: kDefaultAngleTolerance radians.
+constexpr double kDefaultRelativeTolerance = 1e-9;
+constexpr double kDefaultAngleTolerance = 1e-6;
+double pair_size(const collision::Shape& a, const collision::Pose& pose_a, const collision::Shape& b,
+                 const collision::Pose& pose_b);
+inline double default_tolerance(const collision::Shape& a, const collision::Pose& pose_a, const collision::Shape& b,
+                                const collision::Pose& pose_b) {
+  return kDefaultRelativeTolerance * pair_size(a, pose_a, b, pose_b);
+}
+
+}  // namespace hedra::tool
