@@ -511,6 +511,7 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
   double upper = std::numeric_limits<double>::infinity();
   double lower = -std::numeric_limits<double>::infinity();
   double delta = sides > 0 ? kPi / sides : 0.0;
+  Vec previous_normal = Vec::Zero();
   CoreAnswer kept;
   const double size = std::max(collision::bounding_radius(a), collision::bounding_radius(b));
   const int passes = curved ? std::max(1, settings.refinements + 1) : 1;
@@ -528,7 +529,7 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
     if (upper - lower <= std::max(core.tolerance + core.flattening, settings.target_width * size)) break;
     if (core.points > settings.max_difference_points) break;  // the bracket stays as wide as it is
     // Refine: exact support points of the curved cores in n and on a 3x3
-    // grid of directions around it (spacing delta, shrinking every pass).
+    // grid of directions around it (spacing delta).
     const Vec p = any_perpendicular(n), q = n.cross(p);
     for (int i = -1; i <= 1; ++i) {
       for (int j = -1; j <= 1; ++j) {
@@ -537,7 +538,11 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
         if (core_b.curved()) core_b.points.push_back(core_b.support_point(-dir));
       }
     }
-    delta /= 4;
+    // Shrink the grid fast while the normal stays inside it, slowly when it
+    // moved farther (two nearly tied features: the normal alternates and
+    // each needs the grid).
+    delta /= std::acos(std::clamp(n.dot(previous_normal), -1.0, 1.0)) <= delta ? 4 : 2;
+    previous_normal = n;
   }
 
   const double rounding = kept.tolerance + kept.flattening;
