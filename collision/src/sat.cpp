@@ -1,0 +1,154 @@
+// SAT between convex polyhedra (see sat.hpp for the algorithm and frames).
+#include <cmath>
+#include <hedra/collision/sat.hpp>
+#include <vector>
+
+namespace hedra::collision {
+
+const hull::HalfEdgeMesh& unit_box_mesh() {
+  static const hull::HalfEdgeMesh mesh = [] {
+    std::vector<Eigen::Vector3d> positions(8);
+    for (int i = 0; i < 8; ++i) positions[i] = {i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0};
+    // Counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
+    const std::vector<std::vector<hull::Index>> polygons = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                                            {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    hull::HalfEdgeMesh m;
+    hull::HalfEdgeMesh::from_polygons(positions, polygons, m);
+    return m;
+  }();
+  return mesh;
+}
+
+SatPolytope sat_polytope(const Box& box, BoxPolytopeStorage& storage) {
+  const hull::HalfEdgeMesh& mesh = unit_box_mesh();
+  const Eigen::Vector3d& h = box.half_extents;
+  for (int i = 0; i < 8; ++i) storage.vertices[i] = mesh.position(static_cast<hull::Index>(i)).cwiseProduct(h);
+  for (int f = 0; f < 6; ++f) {
+    const Eigen::Vector3d& n = mesh.plane(static_cast<hull::Index>(f)).normal;
+    storage.planes[f] = {n, n.cwiseAbs().dot(h)};
+  }
+  SatPolytope p;
+  p.mesh = &mesh;
+  p.vertices = storage.vertices.data();
+  p.planes = storage.planes.data();
+  p.scale = h.norm();
+  return p;
+}
+
+SatPolytope sat_polytope(const ConvexPolyhedron& poly) {
+  SatPolytope p;
+  p.mesh = &poly.mesh();
+  p.vertices = poly.vertices().data();
+  p.poly = &poly;
+  p.scale = poly.bounding_radius();
+  return p;
+}
+
+namespace {
+
+// Face f of A against B: B's deepest vertex below f's plane.
+SatAxis face_of_a(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, hull::Index f) {
+  const hull::Plane& plane = a.plane(f);
+  const hull::Index v = b.support(-(rel.rotation.transpose() * plane.normal));
+  SatAxis axis;
+  axis.kind = SatAxisKind::face_a;
+  axis.feature_a = f;
+  axis.separation = plane.normal.dot(rel.rotation * b.vertex(v) + rel.translation) - plane.offset;
+  axis.normal = plane.normal;
+  return axis;
+}
+
+// Face f of B against A, in B's frame: A's vertex x maps to R^T (x - t).
+SatAxis face_of_b(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, hull::Index f) {
+  const hull::Plane& plane = b.plane(f);
+  const Eigen::Vector3d n_in_a = rel.rotation * plane.normal;
+  const hull::Index v = a.support(-n_in_a);
+  SatAxis axis;
+  axis.kind = SatAxisKind::face_b;
+  axis.feature_b = f;
+  axis.separation = plane.normal.dot(rel.rotation.transpose() * (a.vertex(v) - rel.translation)) - plane.offset;
+  axis.normal = -n_in_a;
+  return axis;
+}
+
+}  // namespace
+
+SatAxis sat_face_axis(const SatPolytope& a, const SatPolytope& b, const RelativePose& b_in_a, bool of_a,
+                      hull::Index face) {
+  return of_a ? face_of_a(a, b, b_in_a, face) : face_of_b(a, b, b_in_a, face);
+}
+
+SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, const SatSettings& settings) {
+  SatResult out;
+  const hull::HalfEdgeMesh& ma = *a.mesh;
+  const hull::HalfEdgeMesh& mb = *b.mesh;
+  // Faces of A.
+  for (hull::Index f = 0; f < ma.face_count(); ++f) {
+    const SatAxis axis = face_of_a(a, b, rel, f);
+    if (axis.separation > out.face_a.separation) out.face_a = axis;
+    if (axis.separation > settings.early_out) {
+      out.separated = true;
+      return out;
+    }
+  }
+  // Faces of B.
+  for (hull::Index f = 0; f < mb.face_count(); ++f) {
+    const SatAxis axis = face_of_b(a, b, rel, f);
+    if (axis.separation > out.face_b.separation) out.face_b = axis;
+    if (axis.separation > settings.early_out) {
+      out.separated = true;
+      return out;
+    }
+  }
+  // Edge pairs whose Gauss-map arcs cross. Outer loop over B so that B's
+  // data is rotated into A's frame once per edge of B.
+  const double tol2 = settings.parallel_tolerance * settings.parallel_tolerance;
+  const std::size_t half_edges_a = ma.half_edge_count();
+  const std::size_t half_edges_b = mb.half_edge_count();
+  for (hull::Index eb = 0; eb < half_edges_b; ++eb) {
+    const hull::Index tb = mb.twin(eb);
+    if (tb < eb) continue;  // each edge once
+    // c, d: B's face normals negated (the Gauss map of -B), A's frame.
+    const Eigen::Vector3d c = -(rel.rotation * b.plane(mb.left_face(eb)).normal);
+    const Eigen::Vector3d d = -(rel.rotation * b.plane(mb.left_face(tb)).normal);
+    const Eigen::Vector3d pb = rel.rotation * b.vertex(mb.origin(eb)) + rel.translation;
+    const Eigen::Vector3d e_b = rel.rotation * (b.vertex(mb.origin(tb)) - b.vertex(mb.origin(eb)));
+    // d x c = (-n_right) x (-n_left) = n_right x n_left, antiparallel to e_b.
+    const Eigen::Vector3d dxc = -e_b;
+    const double e_b2 = e_b.squaredNorm();
+    for (hull::Index ea = 0; ea < half_edges_a; ++ea) {
+      const hull::Index ta = ma.twin(ea);
+      if (ta < ea) continue;
+      const Eigen::Vector3d& pa = a.vertex(ma.origin(ea));
+      const Eigen::Vector3d e_a = a.vertex(ma.origin(ta)) - pa;
+      // b x a = n_right x n_left of A's edge, antiparallel to e_a.
+      const double cba = -c.dot(e_a), dba = -d.dot(e_a);
+      if (!(cba * dba < 0.0)) continue;
+      const Eigen::Vector3d& na = a.plane(ma.left_face(ea)).normal;
+      const Eigen::Vector3d& nb = a.plane(ma.left_face(ta)).normal;
+      const double adc = na.dot(dxc), bdc = nb.dot(dxc);
+      if (!(adc * bdc < 0.0) || !(cba * bdc > 0.0)) continue;
+      ++out.edge_pairs;
+      Eigen::Vector3d n = e_a.cross(e_b);
+      const double len2 = n.squaredNorm();
+      if (!(len2 > tol2 * e_a.squaredNorm() * e_b2)) continue;  // nearly parallel (or NaN)
+      n /= std::sqrt(len2);
+      if (n.dot(pa) < 0.0) n = -n;  // away from A's centroid, the core origin
+      const double s = n.dot(pb - pa);
+      if (s > out.edge.separation) {
+        out.edge.kind = SatAxisKind::edge;
+        out.edge.separation = s;
+        out.edge.feature_a = ea;
+        out.edge.feature_b = eb;
+        out.edge.normal = n;
+        if (s > settings.early_out) {
+          out.separated = true;
+          return out;
+        }
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace hedra::collision
