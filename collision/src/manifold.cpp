@@ -305,9 +305,13 @@ bool polytope_view(const Polyhedron& p, BoxPolytopeStorage&, SatPolytope& out) {
 
 double scale_of(const SatPolytope& a, const SatPolytope& b) { return std::max(a.scale, b.scale); }
 
-// Geometric tolerance for "on a plane / on an edge" decisions of points
-// computed from coordinates of size `scale`.
-double geometric_tolerance(double scale) { return 1e-9 * scale; }
+// Tolerance of the side-plane clipping and of "on a plane / on an edge"
+// decisions: a point within it of a side plane counts as on it, so an
+// incident vertex that a tilt of 1e-6 rad moves across the side plane of an
+// equally wide reference face (stacked equal boxes) stays one vertex with one
+// feature id instead of flipping between a vertex and a clipped point. The
+// price: kept points may lie that far outside the reference face.
+double geometric_tolerance(double scale) { return 1e-6 * scale; }
 
 void flip(ContactResult& r) {
   r.normal = -r.normal;
@@ -403,8 +407,10 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
     candidates.push(on_a, on_b, best->separation, id);
     built = true;
   }
-  if (!built) {
-    // A face too large for the fixed buffers: one point from penetration().
+  if (!built || candidates.size == 0) {
+    // A face too large for the fixed buffers, or an incident face entirely
+    // outside the reference face's side planes (deep contacts near an
+    // edge): one point from penetration().
     ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
     single.stats = out.stats;
     return single;
