@@ -21,29 +21,6 @@ using testing::random_points;
 using testing::random_unit;
 using Vec = Eigen::Vector3d;
 
-// Exact signed distance of the pair: > 0 the distance, < 0 minus the depth
-// (the distance from the origin, inside, to the Minkowski difference's boundary).
-double reference_signed_distance(const std::vector<Vec>& a, const std::vector<Vec>& b) {
-  std::vector<Vec> diff;
-  for (const Vec& p : a)
-    for (const Vec& q : b) diff.push_back(p - q);
-  const reference::QhullHull h = reference::qhull_hull(diff, "Qt");
-  EXPECT_TRUE(h.ok) << h.messages;
-  bool outside = false;
-  double best = INFINITY, depth = INFINITY;
-  for (const auto& t : h.triangles) {
-    const Vec &p0 = diff[t[0]], &p1 = diff[t[1]], &p2 = diff[t[2]];
-    Vec n = (p1 - p0).cross(p2 - p0);
-    if (n.squaredNorm() == 0.0) continue;
-    n.normalize();
-    const double plane = n.dot(-p0);  // signed distance of the origin to the facet plane
-    if (plane > 0.0) outside = true;
-    depth = std::min(depth, -plane);
-    best = std::min(best, testing::point_triangle_distance(Vec::Zero(), p0, p1, p2));
-  }
-  return outside ? best : -depth;
-}
-
 // Brute force: every face normal of both and every cross product of edge
 // directions, each axis measured on all vertices.
 double brute_force_separation(const ConvexPolyhedron& a, const Pose& pa, const ConvexPolyhedron& b, const Pose& pb) {
@@ -94,7 +71,8 @@ TEST(Sat, MatchesBruteForceAndExactDepthOnRandomHulls) {
     const double scale = ha->bounding_radius() + hb->bounding_radius();
     const double brute = brute_force_separation(*ha, pa, *hb, pb);
     EXPECT_LE(sep, brute + 1e-9 * scale) << "trial " << trial;  // a subset of the brute-force axes
-    const double exact = reference_signed_distance(testing::world_vertices(*ha, pa), testing::world_vertices(*hb, pb));
+    const double exact =
+        testing::signed_reference_distance(testing::world_vertices(*ha, pa), testing::world_vertices(*hb, pb));
     if (exact < -1e-6 * scale) {
       ++overlapping;
       // Overlapping: the Minkowski faces hold the minimum, so the pruned
