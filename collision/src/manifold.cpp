@@ -5,6 +5,7 @@
 #include <cmath>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/hull/mesh_edit.hpp>
+#include <new>
 #include <type_traits>
 
 namespace hedra::collision {
@@ -50,12 +51,23 @@ struct Candidate {
   FeatureId id;
 };
 
-struct CandidateList {
-  std::array<Candidate, kClipCapacity> items;
+// Fixed capacity, left uninitialised until pushed (a few kB per query that
+// default-initialising would write for nothing).
+class CandidateList {
+ public:
+  CandidateList() {}
   std::size_t size = 0;
+  Candidate& operator[](std::size_t i) { return data()[i]; }
+  const Candidate& operator[](std::size_t i) const { return data()[i]; }
   void push(const Vec& on_a, const Vec& on_b, double separation, const FeatureId& id) {
-    if (size < items.size()) items[size++] = {on_a, on_b, separation, id};
+    if (size < kClipCapacity) new (&data()[size++]) Candidate{on_a, on_b, separation, id};
   }
+
+ private:
+  static_assert(std::is_trivially_destructible_v<Candidate>);
+  Candidate* data() { return reinterpret_cast<Candidate*>(storage_); }
+  const Candidate* data() const { return reinterpret_cast<const Candidate*>(storage_); }
+  alignas(Candidate) unsigned char storage_[sizeof(Candidate) * kClipCapacity];
 };
 
 // Reduction to at most four points (see manifold.hpp): the deepest, the
@@ -65,14 +77,14 @@ int reduce(const CandidateList& c, const Vec& n, std::array<std::size_t, kMaxCon
   if (c.size == 0) return 0;
   std::size_t i0 = 0;
   for (std::size_t i = 1; i < c.size; ++i)
-    if (c.items[i].separation < c.items[i0].separation) i0 = i;
+    if (c[i].separation < c[i0].separation) i0 = i;
   keep[0] = i0;
   if (c.size == 1) return 1;
-  const Vec p0 = c.items[i0].on_b;
+  const Vec p0 = c[i0].on_b;
   std::size_t i1 = i0;
   double far = 0.0;
   for (std::size_t i = 0; i < c.size; ++i) {
-    const double d2 = (c.items[i].on_b - p0).squaredNorm();
+    const double d2 = (c[i].on_b - p0).squaredNorm();
     if (d2 > far) {
       far = d2;
       i1 = i;
@@ -80,13 +92,13 @@ int reduce(const CandidateList& c, const Vec& n, std::array<std::size_t, kMaxCon
   }
   if (i1 == i0) return 1;  // all candidates coincide
   keep[1] = i1;
-  const Vec p1 = c.items[i1].on_b;
+  const Vec p1 = c[i1].on_b;
   std::size_t i2 = i0, i3 = i0;
   double best_pos = 0.0, best_neg = 0.0;
   // Areas below this (relative to the span) add nothing: collinear points.
   const double min_area = 1e-9 * far;
   for (std::size_t i = 0; i < c.size; ++i) {
-    const double area = (p0 - c.items[i].on_b).cross(p1 - c.items[i].on_b).dot(n);
+    const double area = (p0 - c[i].on_b).cross(p1 - c[i].on_b).dot(n);
     if (area > best_pos) {
       best_pos = area;
       i2 = i;
@@ -117,25 +129,25 @@ void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b,
   out.stats.clipped_points = static_cast<int>(c.size);
   std::size_t kept = 0;
   for (std::size_t i = 0; i < c.size; ++i) {
-    Candidate x = c.items[i];
+    Candidate x = c[i];
     x.separation -= radius_a + radius_b;
     if (!(x.separation <= contact_distance)) continue;
     x.on_a += radius_a * normal;
     x.on_b -= radius_b * normal;
-    c.items[kept++] = x;
+    c[kept++] = x;
   }
   c.size = kept;
   std::array<std::size_t, kMaxContactPoints> keep{};
   out.count = reduce(c, normal, keep);
   out.normal = world.direction(normal);
   for (int k = 0; k < out.count; ++k) {
-    const Candidate& x = c.items[keep[k]];
+    const Candidate& x = c[keep[k]];
     out.points[k].point = world.point(0.5 * (x.on_a + x.on_b));
     out.points[k].depth = -x.separation;
     out.points[k].id = x.id;
   }
   if (out.count > 0) {
-    const Candidate& deepest = c.items[keep[0]];
+    const Candidate& deepest = c[keep[0]];
     out.distance = deepest.separation;
     out.point_a = world.point(deepest.on_a);
     out.point_b = world.point(deepest.on_b);

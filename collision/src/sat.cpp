@@ -32,6 +32,7 @@ SatPolytope sat_polytope(const Box& box, BoxPolytopeStorage& storage) {
   p.vertices = storage.vertices.data();
   p.planes = storage.planes.data();
   p.scale = h.norm();
+  p.half_extents = h;
   return p;
 }
 
@@ -71,6 +72,55 @@ SatAxis face_of_b(const SatPolytope& a, const SatPolytope& b, const RelativePose
   return axis;
 }
 
+// The half-edge of the unit box running from vertex v0 to vertex v1.
+hull::Index box_half_edge(hull::Index v0, hull::Index v1) {
+  const hull::HalfEdgeMesh& m = unit_box_mesh();
+  for (hull::Index e = 0; e < m.half_edge_count(); ++e)
+    if (m.origin(e) == v0 && m.destination(e) == v1) return e;
+  return hull::kInvalidIndex;  // unreachable: v0, v1 differ in one bit
+}
+
+// Box-box edge axes (see sat.hpp). A's axes are the unit vectors, B's the
+// columns of R; N = e_i x f_j turned toward B's centre.
+void box_edge_query(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, const SatSettings& settings,
+                    SatResult& out) {
+  const Eigen::Matrix3d& r = rel.rotation;
+  const Eigen::Vector3d& ha = a.half_extents;
+  const Eigen::Vector3d& hb = b.half_extents;
+  int best_i = -1, best_j = -1;
+  Eigen::Vector3d best_n = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      Eigen::Vector3d n = Eigen::Vector3d::Unit(i).cross(r.col(j));  // |n| = sin of the angle
+      const double len = n.norm();
+      if (!(len > settings.parallel_tolerance)) continue;
+      n /= len;
+      const double nt = n.dot(rel.translation);
+      if (nt < 0.0) n = -n;
+      // Projected radii: A's along its axes, B's along R's columns.
+      const double radius_a = ha.dot(n.cwiseAbs());
+      const double radius_b = hb.dot((r.transpose() * n).cwiseAbs());
+      const double s = std::abs(nt) - radius_a - radius_b;
+      ++out.edge_pairs;
+      if (s > out.edge.separation) {
+        out.edge.separation = s;
+        out.edge.normal = n;
+        best_i = i;
+        best_j = j;
+      }
+    }
+  if (best_i < 0) return;
+  out.edge.kind = SatAxisKind::edge;
+  // A's support edge along n: the vertices with the signs of n off axis i.
+  const Eigen::Vector3d& n = out.edge.normal;
+  const hull::Index va = a.support(n) & ~(1u << best_i);
+  const Eigen::Vector3d nb = -(r.transpose() * n);
+  const hull::Index vb = b.support(nb) & ~(1u << best_j);
+  out.edge.feature_a = box_half_edge(va, va | (1u << best_i));
+  out.edge.feature_b = box_half_edge(vb, vb | (1u << best_j));
+  if (out.edge.separation > settings.early_out) out.separated = true;
+}
+
 }  // namespace
 
 SatAxis sat_face_axis(const SatPolytope& a, const SatPolytope& b, const RelativePose& b_in_a, bool of_a,
@@ -99,6 +149,10 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
       out.separated = true;
       return out;
     }
+  }
+  if (!a.poly && !b.poly) {
+    box_edge_query(a, b, rel, settings, out);
+    return out;
   }
   // Edge pairs whose Gauss-map arcs cross. Outer loop over B so that B's
   // data is rotated into A's frame once per edge of B.

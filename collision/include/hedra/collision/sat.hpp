@@ -34,6 +34,12 @@
 // dot products). Early exit: as soon as an axis separates by more than
 // `early_out` (the caller's speculative distance), the rest is skipped.
 //
+// Two boxes: the edge pairs are the 3 x 3 pairs of axis directions, each
+// measured in closed form (|N . t| minus both boxes' projected radii, the
+// classic OBB test), and the edges realising the chosen axis are the
+// boxes' support edges along it. For overlapping boxes the largest of these
+// 15 separations is the exact depth, like the Gauss-map version's.
+//
 // Degenerate polytopes (points, segments, flat polygons) are not for this
 // test: callers check dimension() == 3.
 #pragma once
@@ -55,12 +61,13 @@ const hull::HalfEdgeMesh& unit_box_mesh();
 
 // A convex polytope as SAT and the manifold builder see it, in its core frame.
 struct SatPolytope {
-  const hull::HalfEdgeMesh* mesh = nullptr;   // topology
-  const Eigen::Vector3d* vertices = nullptr;  // positions, indexed like mesh
-  const hull::Plane* planes = nullptr;        // face planes; null: mesh->plane(f)
-  const ConvexPolyhedron* poly = nullptr;     // hulls: the support walks its adjacency
-  mutable hull::Index hint = 0;               // last support vertex (climb start)
-  double scale = 0.0;                         // bounding radius of the core
+  const hull::HalfEdgeMesh* mesh = nullptr;                // topology
+  const Eigen::Vector3d* vertices = nullptr;               // positions, indexed like mesh
+  const hull::Plane* planes = nullptr;                     // face planes; null: mesh->plane(f)
+  const ConvexPolyhedron* poly = nullptr;                  // hulls: the support walks its adjacency
+  mutable hull::Index hint = 0;                            // last support vertex (climb start)
+  double scale = 0.0;                                      // bounding radius of the core
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();  // boxes (poly == nullptr)
 
   const Eigen::Vector3d& vertex(hull::Index v) const { return vertices[v]; }
   const hull::Plane& plane(hull::Index f) const { return planes ? planes[f] : mesh->plane(f); }
