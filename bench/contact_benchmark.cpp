@@ -11,8 +11,10 @@
 //   hull8, hull32, hull128
 //                 two hulls of points on an ellipsoid (every point a vertex)
 //                 in random orientations, overlapping
-//   box_separated two boxes 0.1 apart (contact() with and without a per-pair
-//                 ContactCache: the cached separating axis answers alone)
+//   box_separated, hull32_separated
+//                 boxes 0.1 apart, 32-vertex hulls apart (contact() with and
+//                 without a per-pair ContactCache: the cached separating
+//                 face axis answers alone)
 // Each benchmark loops over its family's pairs, one query per iteration
 // (time per iteration = time per query). Bullet's objects (shapes with their
 // polyhedral features, transforms, clipping buffers) are built once per pair
@@ -95,6 +97,14 @@ std::vector<Family> make_families() {
     }
     out.push_back(f);
   }
+  Family hulls_apart{"hull32_separated", {}};
+  for (int i = 0; i < 64; ++i) {
+    const auto ha = ellipsoid_hull(rng, 32, Vec(1.0, 0.8, 0.6));
+    const auto hb = ellipsoid_hull(rng, 32, Vec(0.7, 0.9, 0.5));
+    hulls_apart.pairs.push_back(
+        {Polyhedron{ha}, random_pose(rng, Vec::Zero()), Polyhedron{hb}, random_pose(rng, 2.2 * random_unit(rng))});
+  }
+  out.push_back(hulls_apart);
   Family separated{"box_separated", {}};
   for (int i = 0; i < 64; ++i)
     separated.pairs.push_back({Box{{1, 1, 1}}, Pose::identity(), Box{{0.5, 0.5, 0.5}},
@@ -158,7 +168,7 @@ int main(int argc, char** argv) {
   static const std::vector<Family> families = make_families();
   for (const Family& f : families) {
     register_hedra(f, false);
-    if (f.name == "box_separated" || f.name == "box_resting") register_hedra(f, true);
+    if (f.name.find("separated") != std::string::npos || f.name == "box_resting") register_hedra(f, true);
 #ifdef HEDRA_WITH_PEERS
     register_bullet(f, true);
     register_bullet(f, false);

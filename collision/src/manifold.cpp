@@ -203,17 +203,25 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
   std::array<Vec, kClipCapacity> incident;  // the unclipped polygon, for the feature ids
   std::copy(buffer_a.begin(), buffer_a.begin() + inc_count, incident.begin());
 
-  Vec* src = buffer_a.data();
-  Vec* dst = buffer_b.data();
+  // Side planes of the reference face's edges, unit, outward (the face is
+  // on the left of each half-edge); kept for the feature ids.
+  std::array<hull::Plane, kClipCapacity> sides;
+  std::array<Index, kClipCapacity> side_edges;
+  std::size_t side_count = 0;
   for (const Index e : rm.face_edges(ref_face)) {
     const Vec p0 = ref_place.point(ref.vertex(rm.origin(e)));
     const Vec p1 = ref_place.point(ref.vertex(rm.destination(e)));
-    const Vec side = (p1 - p0).cross(n);  // outward: the face is on the left of e
-    const hull::ClipResult r = hull::clip_polygon(src, count, {side, side.dot(p0)}, dst, kClipCapacity, tolerance);
+    const Vec side = (p1 - p0).cross(n).normalized();
+    side_edges[side_count] = e;
+    sides[side_count++] = {side, side.dot(p0)};
+  }
+  Vec* src = buffer_a.data();
+  Vec* dst = buffer_b.data();
+  for (std::size_t k = 0; k < side_count && count > 0; ++k) {
+    const hull::ClipResult r = hull::clip_polygon(src, count, sides[k], dst, kClipCapacity, tolerance);
     if (r.status != hull::ClipStatus::ok) return false;
     count = r.count;
     std::swap(src, dst);
-    if (count == 0) break;
   }
 
   for (std::size_t i = 0; i < count; ++i) {
@@ -233,13 +241,11 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
       }
     if (id.kind == FeatureKind::none) {
       double best_side = std::numeric_limits<double>::infinity();
-      for (const Index e : rm.face_edges(ref_face)) {
-        const Vec p0 = ref_place.point(ref.vertex(rm.origin(e)));
-        const Vec side = (ref_place.point(ref.vertex(rm.destination(e))) - p0).cross(n).normalized();
-        const double d = std::abs(side.dot(p - p0));
+      for (std::size_t k = 0; k < side_count; ++k) {
+        const double d = std::abs(sides[k].signed_distance(p));
         if (d < best_side) {
           best_side = d;
-          id.clip = e;
+          id.clip = side_edges[k];
         }
       }
       double best_edge = std::numeric_limits<double>::infinity();
@@ -314,6 +320,9 @@ bool polytope_view(const Polyhedron& p, BoxPolytopeStorage&, SatPolytope& out) {
   out = sat_polytope(*p.hull);
   return true;
 }
+
+bool solid(const Box&) { return true; }
+bool solid(const Polyhedron& p) { return p.hull->dimension() == 3; }
 
 double scale_of(const SatPolytope& a, const SatPolytope& b) { return std::max(a.scale, b.scale); }
 
@@ -641,10 +650,7 @@ ContactResult contact_typed(const Shape& shape_a, const SA& a, const Pose& pose_
   constexpr bool curved_a = std::is_same_v<SA, Capsule> || std::is_same_v<SA, Cylinder> || std::is_same_v<SA, Cone>;
   constexpr bool curved_b = std::is_same_v<SB, Capsule> || std::is_same_v<SB, Cylinder> || std::is_same_v<SB, Cone>;
   if constexpr (is_polytope_v<SA> && is_polytope_v<SB>) {
-    BoxPolytopeStorage storage;
-    SatPolytope view;
-    if (!polytope_view(a, storage, view) || !polytope_view(b, storage, view))
-      return single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+    if (!solid(a) || !solid(b)) return single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
     return polytope_contact(shape_a, a, pose_a, shape_b, b, pose_b, cache, settings);
   } else if constexpr (is_polytope_v<SA> && curved_b) {
     return curved_contact(shape_a, a, pose_a, shape_b, b, pose_b, cache, settings);

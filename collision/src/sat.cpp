@@ -88,27 +88,33 @@ void box_edge_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
   const Eigen::Vector3d& ha = a.half_extents;
   const Eigen::Vector3d& hb = b.half_extents;
   int best_i = -1, best_j = -1;
-  Eigen::Vector3d best_n = Eigen::Vector3d::Zero();
-  for (int i = 0; i < 3; ++i)
+  // With n = e_i x f_j (unnormalised, |n| = sqrt(1 - R_ij^2)) and (i1, i2),
+  // (j1, j2) the other two indices in cyclic order (Gottschalk's OBB test):
+  //   n . t      = t_i2 R_i1j - t_i1 R_i2j
+  //   radius_a   = ha_i1 |R_i2j| + ha_i2 |R_i1j|
+  //   radius_b   = hb_j1 |R_ij2| + hb_j2 |R_ij1|
+  const Eigen::Vector3d& t = rel.translation;
+  for (int i = 0; i < 3; ++i) {
+    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
     for (int j = 0; j < 3; ++j) {
-      Eigen::Vector3d n = Eigen::Vector3d::Unit(i).cross(r.col(j));  // |n| = sin of the angle
-      const double len = n.norm();
-      if (!(len > settings.parallel_tolerance)) continue;
-      n /= len;
-      const double nt = n.dot(rel.translation);
-      if (nt < 0.0) n = -n;
-      // Projected radii: A's along its axes, B's along R's columns.
-      const double radius_a = ha.dot(n.cwiseAbs());
-      const double radius_b = hb.dot((r.transpose() * n).cwiseAbs());
-      const double s = std::abs(nt) - radius_a - radius_b;
+      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const double len2 = 1.0 - r(i, j) * r(i, j);
+      if (!(len2 > settings.parallel_tolerance * settings.parallel_tolerance)) continue;
+      const double nt = t[i2] * r(i1, j) - t[i1] * r(i2, j);
+      const double radius_a = ha[i1] * std::abs(r(i2, j)) + ha[i2] * std::abs(r(i1, j));
+      const double radius_b = hb[j1] * std::abs(r(i, j2)) + hb[j2] * std::abs(r(i, j1));
+      const double s = (std::abs(nt) - radius_a - radius_b) / std::sqrt(len2);
       ++out.edge_pairs;
       if (s > out.edge.separation) {
+        Eigen::Vector3d n = Eigen::Vector3d::Unit(i).cross(r.col(j)).normalized();
+        if (nt < 0.0) n = -n;
         out.edge.separation = s;
         out.edge.normal = n;
         best_i = i;
         best_j = j;
       }
     }
+  }
   if (best_i < 0) return;
   out.edge.kind = SatAxisKind::edge;
   // A's support edge along n: the vertices with the signs of n off axis i.
@@ -119,6 +125,37 @@ void box_edge_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
   out.edge.feature_a = box_half_edge(va, va | (1u << best_i));
   out.edge.feature_b = box_half_edge(vb, vb | (1u << best_j));
   if (out.edge.separation > settings.early_out) out.separated = true;
+}
+
+// Box-box face axes in closed form: A's face k facing B separates by
+// |t_k| - h_k - (B's radius along e_k); B's face j facing A likewise. Face
+// indices follow unit_box_mesh(): 2k for -axis k, 2k + 1 for +axis k.
+void box_face_query(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, SatResult& out) {
+  const Eigen::Matrix3d abs_r = rel.rotation.cwiseAbs();
+  const Eigen::Vector3d& t = rel.translation;
+  const Eigen::Vector3d t_in_b = rel.rotation.transpose() * t;
+  const Eigen::Vector3d radius_b = abs_r * b.half_extents;              // B along A's axes
+  const Eigen::Vector3d radius_a = abs_r.transpose() * a.half_extents;  // A along B's axes
+  for (int k = 0; k < 3; ++k) {
+    const double s = std::abs(t[k]) - a.half_extents[k] - radius_b[k];
+    if (s > out.face_a.separation) {
+      const bool plus = t[k] >= 0.0;
+      out.face_a.kind = SatAxisKind::face_a;
+      out.face_a.separation = s;
+      out.face_a.feature_a = static_cast<hull::Index>(2 * k + (plus ? 1 : 0));
+      out.face_a.normal = (plus ? 1.0 : -1.0) * Eigen::Vector3d::Unit(k);
+    }
+  }
+  for (int j = 0; j < 3; ++j) {
+    const double s = std::abs(t_in_b[j]) - b.half_extents[j] - radius_a[j];
+    if (s > out.face_b.separation) {
+      const bool plus = -t_in_b[j] >= 0.0;  // B's face toward A (direction -t)
+      out.face_b.kind = SatAxisKind::face_b;
+      out.face_b.separation = s;
+      out.face_b.feature_b = static_cast<hull::Index>(2 * j + (plus ? 1 : 0));
+      out.face_b.normal = -(plus ? 1.0 : -1.0) * rel.rotation.col(j);
+    }
+  }
 }
 
 }  // namespace
@@ -132,6 +169,15 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
   SatResult out;
   const hull::HalfEdgeMesh& ma = *a.mesh;
   const hull::HalfEdgeMesh& mb = *b.mesh;
+  if (!a.poly && !b.poly) {  // two boxes: closed forms
+    box_face_query(a, b, rel, out);
+    if (out.face_a.separation > settings.early_out || out.face_b.separation > settings.early_out) {
+      out.separated = true;
+      return out;
+    }
+    box_edge_query(a, b, rel, settings, out);
+    return out;
+  }
   // Faces of A.
   for (hull::Index f = 0; f < ma.face_count(); ++f) {
     const SatAxis axis = face_of_a(a, b, rel, f);
@@ -149,10 +195,6 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
       out.separated = true;
       return out;
     }
-  }
-  if (!a.poly && !b.poly) {
-    box_edge_query(a, b, rel, settings, out);
-    return out;
   }
   // Edge pairs whose Gauss-map arcs cross. Outer loop over B so that B's
   // data is rotated into A's frame once per edge of B.
