@@ -126,7 +126,6 @@ struct WorldFrame {
 // reduces to four and writes the world result.
 void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b, double contact_distance,
           const WorldFrame& world, ContactResult& out) {
-  out.stats.clipped_points = static_cast<int>(c.size);
   std::size_t kept = 0;
   for (std::size_t i = 0; i < c.size; ++i) {
     Candidate x = c[i];
@@ -138,7 +137,16 @@ void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b,
   }
   c.size = kept;
   std::array<std::size_t, kMaxContactPoints> keep{};
-  out.count = reduce(c, normal, keep);
+  if (c.size <= static_cast<std::size_t>(kMaxContactPoints)) {
+    // Already reduced (face contacts reduce before their feature ids): keep
+    // all, the deepest first.
+    out.count = static_cast<int>(c.size);
+    for (int k = 0; k < out.count; ++k) keep[k] = static_cast<std::size_t>(k);
+    for (int k = 1; k < out.count; ++k)
+      if (c[keep[k]].separation < c[keep[0]].separation) std::swap(keep[0], keep[k]);
+  } else {
+    out.count = reduce(c, normal, keep);
+  }
   out.normal = world.direction(normal);
   for (int k = 0; k < out.count; ++k) {
     const Candidate& x = c[keep[k]];
@@ -169,7 +177,8 @@ struct Placement {
 // (ref_is_a says which is which). Returns false when a face is too large for
 // the fixed buffers.
 bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatPolytope& inc,
-                  const Placement& inc_place, Index ref_face, bool ref_is_a, double tolerance, CandidateList& out) {
+                  const Placement& inc_place, Index ref_face, bool ref_is_a, double tolerance, double max_separation,
+                  CandidateList& out, int& clipped) {
   const hull::HalfEdgeMesh& rm = *ref.mesh;
   const hull::HalfEdgeMesh& im = *inc.mesh;
   const hull::Plane& rp = ref.plane(ref_face);
@@ -224,9 +233,19 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
     std::swap(src, dst);
   }
 
+  // Points within the contact distance, reduced to four here so that the
+  // feature ids below are worked out for the kept points only.
+  CandidateList below;
+  clipped = static_cast<int>(count);
   for (std::size_t i = 0; i < count; ++i) {
-    const Vec& p = src[i];
-    const double s = n.dot(p) - offset;
+    const double s = n.dot(src[i]) - offset;
+    if (s <= max_separation) below.push(src[i], src[i], s, FeatureId{});
+  }
+  std::array<std::size_t, kMaxContactPoints> keep{};
+  const int kept = reduce(below, n, keep);
+  for (int i = 0; i < kept; ++i) {
+    const Vec p = below[keep[i]].on_b;
+    const double s = below[keep[i]].separation;
     const Vec on_ref = p - s * n;
     // Feature id: an incident vertex kept as is, else a crossing of an
     // incident edge with a side plane, else a corner of the reference face.
@@ -408,10 +427,12 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   bool built = false;
   if (best->kind == SatAxisKind::face_a) {
     out.path = ContactPath::face_a;
-    built = face_contact(pa, identity, pb, placed_b, best->feature_a, true, tol, candidates);
+    built = face_contact(pa, identity, pb, placed_b, best->feature_a, true, tol, core_contact, candidates,
+                         out.stats.clipped_points);
   } else if (best->kind == SatAxisKind::face_b) {
     out.path = ContactPath::face_b;
-    built = face_contact(pb, placed_b, pa, identity, best->feature_b, false, tol, candidates);
+    built = face_contact(pb, placed_b, pa, identity, best->feature_b, false, tol, core_contact, candidates,
+                         out.stats.clipped_points);
   } else {
     out.path = ContactPath::edge;
     const hull::HalfEdgeMesh& ma = *pa.mesh;
@@ -639,6 +660,7 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
       return first;
     }
   }
+  out.stats.clipped_points = static_cast<int>(candidates.size);
   emit(candidates, nf, ra, rb, settings.contact_distance, world, out);
   if (out.count == 0) return first;
   return out;
