@@ -93,7 +93,7 @@ std::vector<Family> make_families() {
       const auto ha = ellipsoid_hull(rng, n, Vec(1.0, 0.8, 0.6));
       const auto hb = ellipsoid_hull(rng, n, Vec(0.7, 0.9, 0.5));
       f.pairs.push_back(
-          {Polyhedron{ha}, random_pose(rng, Vec::Zero()), Polyhedron{hb}, random_pose(rng, 1.0 * random_unit(rng))});
+          {Polyhedron{ha}, random_pose(rng, Vec::Zero()), Polyhedron{hb}, random_pose(rng, 0.5 * random_unit(rng))});
     }
     out.push_back(f);
   }
