@@ -197,10 +197,28 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
     }
   }
   // Edge pairs whose Gauss-map arcs cross. Outer loop over B so that B's
-  // data is rotated into A's frame once per edge of B.
-  const double tol2 = settings.parallel_tolerance * settings.parallel_tolerance;
+  // data is rotated into A's frame once per edge of B. A's edge vectors are
+  // gathered once into flat arrays on the stack (up to kEdgeCache edges,
+  // ~14 kB) so the inner loop's first test streams through memory instead
+  // of chasing half-edge links; larger hulls walk the mesh directly.
+  constexpr std::size_t kEdgeCache = 512;
+  double ex[kEdgeCache], ey[kEdgeCache], ez[kEdgeCache];
+  hull::Index edge_index[kEdgeCache];
+  std::size_t edge_count = 0;
   const std::size_t half_edges_a = ma.half_edge_count();
   const std::size_t half_edges_b = mb.half_edge_count();
+  const bool gathered = ma.edge_count() <= kEdgeCache;
+  if (gathered)
+    for (hull::Index ea = 0; ea < half_edges_a; ++ea) {
+      const hull::Index ta = ma.twin(ea);
+      if (ta < ea) continue;
+      const Eigen::Vector3d e_a = a.vertex(ma.origin(ta)) - a.vertex(ma.origin(ea));
+      ex[edge_count] = e_a.x();
+      ey[edge_count] = e_a.y();
+      ez[edge_count] = e_a.z();
+      edge_index[edge_count++] = ea;
+    }
+  const double tol2 = settings.parallel_tolerance * settings.parallel_tolerance;
   for (hull::Index eb = 0; eb < half_edges_b; ++eb) {
     const hull::Index tb = mb.twin(eb);
     if (tb < eb) continue;  // each edge once
@@ -212,23 +230,21 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
     // d x c = (-n_right) x (-n_left) = n_right x n_left, antiparallel to e_b.
     const Eigen::Vector3d dxc = -e_b;
     const double e_b2 = e_b.squaredNorm();
-    for (hull::Index ea = 0; ea < half_edges_a; ++ea) {
+    // The rest of the test for a pair whose first condition held
+    // (cba = c . (b x a), dba = d . (b x a) of opposite signs); true when the
+    // pair separates beyond early_out.
+    const auto test_pair = [&](hull::Index ea, const Eigen::Vector3d& e_a, double cba) {
       const hull::Index ta = ma.twin(ea);
-      if (ta < ea) continue;
-      const Eigen::Vector3d& pa = a.vertex(ma.origin(ea));
-      const Eigen::Vector3d e_a = a.vertex(ma.origin(ta)) - pa;
-      // b x a = n_right x n_left of A's edge, antiparallel to e_a.
-      const double cba = -c.dot(e_a), dba = -d.dot(e_a);
-      if (!(cba * dba < 0.0)) continue;
       const Eigen::Vector3d& na = a.plane(ma.left_face(ea)).normal;
       const Eigen::Vector3d& nb = a.plane(ma.left_face(ta)).normal;
       const double adc = na.dot(dxc), bdc = nb.dot(dxc);
-      if (!(adc * bdc < 0.0) || !(cba * bdc > 0.0)) continue;
+      if (!(adc * bdc < 0.0) || !(cba * bdc > 0.0)) return false;
       ++out.edge_pairs;
       Eigen::Vector3d n = e_a.cross(e_b);
       const double len2 = n.squaredNorm();
-      if (!(len2 > tol2 * e_a.squaredNorm() * e_b2)) continue;  // nearly parallel (or NaN)
+      if (!(len2 > tol2 * e_a.squaredNorm() * e_b2)) return false;  // nearly parallel (or NaN)
       n /= std::sqrt(len2);
+      const Eigen::Vector3d& pa = a.vertex(ma.origin(ea));
       if (n.dot(pa) < 0.0) n = -n;  // away from A's centroid, the core origin
       const double s = n.dot(pb - pa);
       if (s > out.edge.separation) {
@@ -239,8 +255,27 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
         out.edge.normal = n;
         if (s > settings.early_out) {
           out.separated = true;
-          return out;
+          return true;
         }
+      }
+      return false;
+    };
+    if (gathered) {
+      for (std::size_t k = 0; k < edge_count; ++k) {
+        // b x a = n_right x n_left of A's edge, antiparallel to e_a.
+        const double cba = -(c.x() * ex[k] + c.y() * ey[k] + c.z() * ez[k]);
+        const double dba = -(d.x() * ex[k] + d.y() * ey[k] + d.z() * ez[k]);
+        if (!(cba * dba < 0.0)) continue;
+        if (test_pair(edge_index[k], Eigen::Vector3d(ex[k], ey[k], ez[k]), cba)) return out;
+      }
+    } else {
+      for (hull::Index ea = 0; ea < half_edges_a; ++ea) {
+        const hull::Index ta = ma.twin(ea);
+        if (ta < ea) continue;
+        const Eigen::Vector3d e_a = a.vertex(ma.origin(ta)) - a.vertex(ma.origin(ea));
+        const double cba = -c.dot(e_a), dba = -d.dot(e_a);
+        if (!(cba * dba < 0.0)) continue;
+        if (test_pair(ea, e_a, cba)) return out;
       }
     }
   }

@@ -92,6 +92,32 @@ TEST(Sat, MatchesBruteForceAndExactDepthOnRandomHulls) {
   EXPECT_LT(pruned_pairs * 5, all_pairs);  // the Gauss map keeps a small fraction
 }
 
+TEST(Sat, LargeHullsWalkTheMeshAndStayExact) {
+  // Above 512 edges A's edges are not gathered on the stack: the mesh walk.
+  std::mt19937_64 rng(4);
+  std::vector<Vec> sphere;
+  for (int i = 0; i < 300; ++i) sphere.push_back(random_unit(rng));
+  const auto ha = make_hull(sphere);
+  ASSERT_GT(ha->mesh().edge_count(), 512u);
+  int overlapping = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const auto hb = make_hull(random_points(rng, 20, Vec(0.6, 0.4, 0.5)));
+    const Pose pa = Pose::from_quaternion(Eigen::Quaterniond::UnitRandom(), Vec::Zero());
+    const Pose pb = Pose::from_quaternion(Eigen::Quaterniond::UnitRandom(), 1.1 * random_unit(rng));
+    SatSettings settings;
+    settings.early_out = INFINITY;
+    const SatResult s =
+        sat_query(sat_polytope(*ha), sat_polytope(*hb), relative_pose(pa, ha->offset(), pb, hb->offset()), settings);
+    const double exact =
+        testing::signed_reference_distance(testing::world_vertices(*ha, pa), testing::world_vertices(*hb, pb));
+    if (exact < -1e-6) {
+      ++overlapping;
+      EXPECT_NEAR(sat_separation(s), exact, 1e-9) << trial;
+    }
+  }
+  EXPECT_GT(overlapping, 2);
+}
+
 TEST(Sat, BoxesUseTheSharedTopologyAndEarlyOut) {
   const hull::HalfEdgeMesh& mesh = unit_box_mesh();
   ASSERT_TRUE(mesh.validate().ok()) << mesh.validate().to_string();
