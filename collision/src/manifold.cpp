@@ -42,6 +42,22 @@ using hull::Index;
 // point path instead (no allocation, ever).
 constexpr std::size_t kClipCapacity = 256;
 
+// Fixed-capacity storage left uninitialised (types with default member
+// initialisers would otherwise be written in full on every query: 8 kB of
+// side planes cost a quarter of a box-box query).
+template <class T, std::size_t N>
+class UninitializedArray {
+ public:
+  UninitializedArray() {}
+  static_assert(std::is_trivially_destructible_v<T>);
+  T& operator[](std::size_t i) { return reinterpret_cast<T*>(storage_)[i]; }
+  const T& operator[](std::size_t i) const { return reinterpret_cast<const T*>(storage_)[i]; }
+  void set(std::size_t i, const T& value) { new (storage_ + i * sizeof(T)) T(value); }
+
+ private:
+  alignas(T) unsigned char storage_[sizeof(T) * N];
+};
+
 // A candidate contact point in A's core frame: its witnesses on the two
 // cores and its separation along the normal (> 0: a gap).
 struct Candidate {
@@ -214,7 +230,7 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
 
   // Side planes of the reference face's edges, unit, outward (the face is
   // on the left of each half-edge); kept for the feature ids.
-  std::array<hull::Plane, kClipCapacity> sides;
+  UninitializedArray<hull::Plane, kClipCapacity> sides;
   std::array<Index, kClipCapacity> side_edges;
   std::size_t side_count = 0;
   for (const Index e : rm.face_edges(ref_face)) {
@@ -222,7 +238,7 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
     const Vec p1 = ref_place.point(ref.vertex(rm.destination(e)));
     const Vec side = (p1 - p0).cross(n).normalized();
     side_edges[side_count] = e;
-    sides[side_count++] = {side, side.dot(p0)};
+    sides.set(side_count++, hull::Plane{side, side.dot(p0)});
   }
   Vec* src = buffer_a.data();
   Vec* dst = buffer_b.data();
