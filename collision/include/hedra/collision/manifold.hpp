@@ -85,9 +85,11 @@ enum class FeatureKind : std::uint8_t {
   face_vertex,  // an incident vertex kept by the clipping: incident = vertex index
   face_clip,    // an incident edge cut by the side plane of reference half-edge `clip`:
                 // incident = the incident half-edge (or its twin, the smaller index)
-  face_corner,  // a reference vertex (two side planes): clip = half-edge entering it
+  face_corner,  // a corner of the reference face (on no incident edge): clip = the
+                // nearest side plane's half-edge, incident = the incident face
   edge,         // edge-edge: reference = A's half-edge, incident = B's half-edge
-  segment,      // capsule / side line: incident = 0 or 1 (end) or 2 + half-edge cut by `clip`
+  segment,      // capsule / side line: incident = 0 or 1 (an end kept), or 2 (cut by the side
+                // plane of reference half-edge `clip`)
   cap,          // cap disc: incident = 0..3 rim on +-x +-y, 4 deepest rim, 8 + vertex, 1 << 20 + half-edge crossing
   single,       // penetration()'s point
 };
