@@ -305,6 +305,34 @@ TEST(Manifold, CylinderStandingOnItsCapGivesRimPoints) {
   EXPECT_EQ(cone.count, 4);
 }
 
+TEST(Manifold, FacesBeyondTheFixedBuffersFallBackToOnePoint) {
+  // A 300-gon prism: its caps exceed the clip buffers (256 points), so a box
+  // on a cap gets one point from penetration(), still at the right depth.
+  std::vector<Vec> points;
+  for (int i = 0; i < 300; ++i) {
+    const double t = 2.0 * M_PI * i / 300.0;
+    points.push_back(Vec(2.0 * std::cos(t), 2.0 * std::sin(t), -0.5));
+    points.push_back(Vec(2.0 * std::cos(t), 2.0 * std::sin(t), 0.5));
+  }
+  const Shape prism = Polyhedron{make_hull(points)};
+  const ContactResult r = contact(prism, Pose::identity(), Box{{0.5, 0.5, 0.5}}, Pose::from_translation({0, 0, 0.99}));
+  EXPECT_EQ(r.path, ContactPath::single_point);
+  ASSERT_EQ(r.count, 1);
+  EXPECT_NEAR(r.points[0].depth, 0.01, 1e-9);
+  EXPECT_LT((r.normal - Vec(0, 0, 1)).norm(), 1e-9);
+  // A small prism's cap fits: four points.
+  points.resize(2 * 40);
+  for (int i = 0; i < 40; ++i) {
+    const double t = 2.0 * M_PI * i / 40.0;
+    points[2 * i] = Vec(2.0 * std::cos(t), 2.0 * std::sin(t), -0.5);
+    points[2 * i + 1] = Vec(2.0 * std::cos(t), 2.0 * std::sin(t), 0.5);
+  }
+  const ContactResult small = contact(Polyhedron{make_hull(points)}, Pose::identity(), Box{{0.5, 0.5, 0.5}},
+                                      Pose::from_translation({0, 0, 0.99}));
+  EXPECT_EQ(small.path, ContactPath::face_a);
+  EXPECT_EQ(small.count, 4);
+}
+
 TEST(Manifold, SphereOnABoxGivesOnePoint) {
   const ContactResult r =
       contact(Box{{1, 1, 1}}, Pose::identity(), Sphere{0.5}, Pose::from_translation({0.2, 0.1, 1.45}));
