@@ -94,6 +94,31 @@ inline double reference_distance(const std::vector<Vec>& a, const std::vector<Ve
   return std::max(0.0, r.distance);
 }
 
+// Exact signed distance of two point sets' hulls (world points), via qhull:
+// > 0 the distance, < 0 minus the penetration depth (the distance from the
+// origin, inside, to the Minkowski difference's boundary: the smallest
+// facet-plane distance).
+inline double signed_reference_distance(const std::vector<Vec>& a, const std::vector<Vec>& b) {
+  std::vector<Vec> diff;
+  for (const Vec& p : a)
+    for (const Vec& q : b) diff.push_back(p - q);
+  const reference::QhullHull h = reference::qhull_hull(diff, "Qt");
+  EXPECT_TRUE(h.ok) << h.messages;
+  bool outside = false;
+  double best = INFINITY, depth = INFINITY;
+  for (const auto& t : h.triangles) {
+    const Vec &p0 = diff[t[0]], &p1 = diff[t[1]], &p2 = diff[t[2]];
+    Vec n = (p1 - p0).cross(p2 - p0);
+    if (n.squaredNorm() == 0.0) continue;
+    n.normalize();
+    const double plane = n.dot(-p0);  // signed distance of the origin to the facet's plane
+    if (plane > 0.0) outside = true;
+    depth = std::min(depth, -plane);
+    best = std::min(best, point_triangle_distance(Vec::Zero(), p0, p1, p2));
+  }
+  return outside ? best : -depth;
+}
+
 // Segment-segment distance: the minimum of the convex quadratic
 // |p0 + s u - q0 - t v|^2 over [0,1]^2 is at the interior stationary point
 // if that lies inside, otherwise on the boundary (four point-segment cases).

@@ -14,6 +14,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
+#include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
 #include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
 #include <btBulletCollisionCommon.h>
 
@@ -137,6 +138,33 @@ void query_signed_distance(Prepared& p, int query, HedraBulletResult* out) {
   finish(out);
 }
 
+// The polyhedral contact path (bullet_module.h).
+struct PreparedManifold {
+  std::unique_ptr<btConvexShape> a, b;
+  btTransform ta, tb;
+  bool polyhedral = false;
+  btVertexArray verts_1, verts_2;  // Bullet's clipping buffers, kept like btConvexConvexAlgorithm keeps them
+};
+
+struct ContactCollector final : btDiscreteCollisionDetectorInterface::Result {
+  HedraBulletContacts* out = nullptr;
+  void setShapeIdentifiersA(int, int) override {}
+  void setShapeIdentifiersB(int, int) override {}
+  void addContactPoint(const btVector3& normal_on_b, const btVector3& point, btScalar depth) override {
+    if (out->count < HEDRA_BULLET_MAX_CONTACTS) {
+      store(normal_on_b, out->normal_on_b[out->count]);
+      store(point, out->point[out->count]);
+      out->distance[out->count] = static_cast<double>(depth);
+      ++out->count;
+    }
+    ++out->total;
+  }
+};
+
+const btConvexPolyhedron* polyhedron_of(const btConvexShape* s) {
+  return static_cast<const btPolyhedralConvexShape*>(s)->getConvexPolyhedron();
+}
+
 }  // namespace
 
 extern "C" {
@@ -164,5 +192,47 @@ __attribute__((visibility("default"))) void hedra_bullet_query(void* prepared, i
 
 __attribute__((visibility("default"))) void hedra_bullet_release(void* prepared) {
   delete static_cast<Prepared*>(prepared);
+}
+
+__attribute__((visibility("default"))) void* hedra_bullet_manifold_prepare(const HedraBulletShape* a,
+                                                                           const HedraBulletShape* b) {
+  auto* p = new PreparedManifold;
+  p->a = make_shape(*a);
+  p->b = make_shape(*b);
+  p->ta = make_transform(*a);
+  p->tb = make_transform(*b);
+  const auto polyhedral = [](const HedraBulletShape& s) {
+    return s.kind == hedra_bullet_box || s.kind == hedra_bullet_hull;
+  };
+  p->polyhedral = polyhedral(*a) && polyhedral(*b);
+  if (p->polyhedral) {
+    static_cast<btPolyhedralConvexShape*>(p->a.get())->initializePolyhedralFeatures();
+    static_cast<btPolyhedralConvexShape*>(p->b.get())->initializePolyhedralFeatures();
+  }
+  return p;
+}
+
+__attribute__((visibility("default"))) void hedra_bullet_manifold_query(void* prepared, double max_distance,
+                                                                        HedraBulletContacts* out) {
+  auto& p = *static_cast<PreparedManifold*>(prepared);
+  out->supported = p.polyhedral ? 1 : 0;
+  out->separated = 0;
+  out->count = out->total = 0;
+  if (!p.polyhedral) return;
+  ContactCollector collector;
+  collector.out = out;
+  btVector3 sep(0, 0, 0);
+  const btConvexPolyhedron* pa = polyhedron_of(p.a.get());
+  const btConvexPolyhedron* pb = polyhedron_of(p.b.get());
+  if (!btPolyhedralContactClipping::findSeparatingAxis(*pa, *pb, p.ta, p.tb, sep, collector)) {
+    out->separated = 1;
+    return;
+  }
+  btPolyhedralContactClipping::clipHullAgainstHull(
+      sep, *pa, *pb, p.ta, p.tb, btScalar(-1e30), static_cast<btScalar>(max_distance), p.verts_1, p.verts_2, collector);
+}
+
+__attribute__((visibility("default"))) void hedra_bullet_manifold_release(void* prepared) {
+  delete static_cast<PreparedManifold*>(prepared);
 }
 }

@@ -40,4 +40,26 @@ struct HedraBulletResult {
 typedef void* (*HedraBulletPrepare)(const HedraBulletShape* a, const HedraBulletShape* b, int method);
 typedef void (*HedraBulletQuery)(void* prepared, int query, HedraBulletResult* out);
 typedef void (*HedraBulletRelease)(void* prepared);
+
+// Contact manifolds through Bullet's polyhedral path, as
+// btConvexConvexAlgorithm runs it for two polyhedral shapes (boxes and hulls
+// with initializePolyhedralFeatures()):
+// btPolyhedralContactClipping::findSeparatingAxis, then clipHullAgainstHull
+// with minDist = -1e30 and maxDist = max_distance. Every point Bullet reports
+// is kept (Bullet reduces them later, in btPersistentManifold): the first
+// HEDRA_BULLET_MAX_CONTACTS are stored, `total` counts all of them.
+#define HEDRA_BULLET_MAX_CONTACTS 64
+struct HedraBulletContacts {
+  int supported;  // both shapes polyhedral (box or hull)
+  int separated;  // findSeparatingAxis found a separating axis (no points)
+  int count, total;
+  // Bullet's own convention: normal_on_b as reported, point in world (on B's
+  // incident face for clipped points), distance (< 0 penetration).
+  double normal_on_b[HEDRA_BULLET_MAX_CONTACTS][3];
+  double point[HEDRA_BULLET_MAX_CONTACTS][3];
+  double distance[HEDRA_BULLET_MAX_CONTACTS];
+};
+typedef void* (*HedraBulletManifoldPrepare)(const HedraBulletShape* a, const HedraBulletShape* b);
+typedef void (*HedraBulletManifoldQuery)(void* prepared, double max_distance, HedraBulletContacts* out);
+typedef void (*HedraBulletManifoldRelease)(void* prepared);
 }

@@ -1,0 +1,167 @@
+// Contact manifolds: up to four contact points for a pair of posed shapes,
+// the input a simulator's contact solver needs.
+//
+//   ContactResult contact(a, pose_a, b, pose_b, cache, settings)
+//
+// Paths (ContactResult::path says which ran):
+//   * polytopes (Box, and Polyhedron with a solid hull) against polytopes:
+//     SAT (sat.hpp) in A's core frame, then
+//       face contact: the reference face is the face axis (A's, or B's when
+//       B's is better by the bias below); the incident face is the face of
+//       the other shape most anti-parallel to it, searched only around the
+//       other shape's support vertex (its ring of faces). The incident
+//       polygon is clipped by the side planes of the reference face's edges
+//       (hull::clip_polygon, no allocation); points whose separation from
+//       the reference plane is <= the contact distance are kept, and
+//       reduced to four: the deepest, the one farthest from it, then the
+//       largest positive and negative signed triangle areas with those two
+//       (the quadrilateral of largest area these choices can reach);
+//       edge contact: one point, the closest points of the two edges.
+//     Face axes are preferred over edge axes, and A's face over B's: the
+//     challenger must beat the incumbent by relative_bias |s| +
+//     absolute_bias scale, so a tilt of 1e-6 rad never flips the manifold.
+//     The reported depth is therefore at most that bias above the exact
+//     penetration depth.
+//   * a capsule against a polytope: the penetration normal (penetration());
+//     when it is a face normal of the polytope (within face_angle_tolerance)
+//     the capsule's segment is clipped by that face's side planes: one or two
+//     points (a capsule lying on a face gets two); otherwise one point.
+//   * a cylinder or cone against a polytope: the penetration normal; when it
+//     is a face normal and a flat cap of the shape lies against that face
+//     (cap axis within face_angle_tolerance of the normal) the exact region
+//     cap disc x face polygon is sampled without approximating the disc by a
+//     polygon: candidates are the disc's rim points on the shape's local +-x,
+//     +-y and the deepest rim point (when inside the polygon), the polygon's
+//     vertices inside the disc, and the exact crossings of the polygon's
+//     edges with the rim circle (all on the region's boundary), reduced to
+//     four as above. When instead a straight line of the side (cylinder:
+//     a generator; cone: apex to rim) lies along the face, that segment is
+//     clipped like a capsule's. Otherwise one point.
+//   * every other pair (spheres, curved against curved, point/segment/flat
+//     hulls): one point from penetration().
+// Margins (rounded shapes): the core's manifold shifted by the radii.
+//
+// Points. Each ContactPoint holds the midpoint between the two surfaces and
+// the depth along the normal: the point on A is point + (depth / 2) normal,
+// the point on B is point - (depth / 2) normal (depth < 0: a speculative
+// point, the surfaces depth apart). Feature ids are built from half-edge,
+// face and vertex indices (stable across frames while the same features
+// touch), so a solver can match points and warm-start its impulses.
+//
+// Frames: all the geometry runs in A's core frame (B placed by the relative
+// pose), and results return to world coordinates at the end.
+//
+// Memory: fixed-size storage on the stack; no allocation per query (the
+// shared unit-box topology is built once, on the first box query).
+//
+// Cache: a ContactCache per pair carries GJK's warm start and the last SAT
+// axis. A pair separated along its cached face axis by more than the contact
+// distance is answered from that axis alone; otherwise the full SAT runs.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <hedra/collision/query.hpp>
+#include <hedra/collision/sat.hpp>
+
+namespace hedra::collision {
+
+enum class ContactPath {
+  none,          // invalid input or a failure before any geometry
+  separated,     // SAT (or the cached axis) proved a gap beyond contact_distance
+  face_a,        // reference face on A, incident face on B clipped
+  face_b,        // reference face on B, incident face on A clipped
+  edge,          // edge-edge: one point
+  segment,       // a capsule's segment or a straight side line clipped by a face
+  cap,           // a cylinder's or cone's cap disc against a face
+  single_point,  // one point from penetration()
+};
+
+const char* to_string(ContactPath path);
+
+enum class FeatureKind : std::uint8_t {
+  none,
+  face_vertex,  // an incident vertex kept by the clipping: incident = vertex index
+  face_clip,    // an incident edge cut by the side plane of reference half-edge `clip`:
+                // incident = the incident half-edge (or its twin, the smaller index)
+  face_corner,  // a corner of the reference face (on no incident edge): clip = the
+                // nearest side plane's half-edge, incident = the incident face
+  edge,         // edge-edge: reference = A's half-edge, incident = B's half-edge
+  segment,      // capsule / side line: incident = 0 or 1 (an end kept), or 2 (cut by the side
+                // plane of reference half-edge `clip`)
+  cap,          // cap disc: incident = 0..3 rim on +-x +-y, 4 deepest rim, 8 + vertex, 1 << 20 + half-edge crossing
+  single,       // penetration()'s point
+};
+
+// Identifies a contact point by the features that make it.
+struct FeatureId {
+  FeatureKind kind = FeatureKind::none;
+  bool reference_on_b = false;                    // the reference face belongs to B
+  std::uint32_t reference = hull::kInvalidIndex;  // reference face (edge: A's half-edge)
+  std::uint32_t clip = hull::kInvalidIndex;       // reference half-edge whose side plane made the point
+  std::uint32_t incident = hull::kInvalidIndex;   // see FeatureKind
+  bool operator==(const FeatureId& o) const {
+    return kind == o.kind && reference_on_b == o.reference_on_b && reference == o.reference && clip == o.clip &&
+           incident == o.incident;
+  }
+  bool operator!=(const FeatureId& o) const { return !(*this == o); }
+};
+
+struct ContactPoint {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // world: midway between the surfaces
+  double depth = 0.0;                               // > 0 penetration, < 0 speculative gap
+  FeatureId id;
+};
+
+inline constexpr int kMaxContactPoints = 4;
+
+struct ContactSettings {
+  // Speculative margin (world length): pairs closer than this return their
+  // points with negative depth; 0 reports touching and overlapping pairs only.
+  double contact_distance = 0.0;
+  // Bias towards face contacts (see the top of the file): relative to the
+  // incumbent separation's magnitude, absolute as a fraction of the pair's size.
+  double relative_bias = 0.05;
+  double absolute_bias = 1e-4;
+  // A normal counts as a face normal (and a cap or side line as lying on a
+  // face) within this angle, radians.
+  double face_angle_tolerance = 1e-3;
+  // SAT: edge pairs closer to parallel than this (sine) are skipped.
+  double parallel_tolerance = 0.005;
+  PenetrationSettings penetration;  // for the paths that use penetration()
+};
+
+struct ContactCache {
+  GjkCache gjk;
+  SatAxisKind axis = SatAxisKind::none;  // last SAT axis (polytope pairs)
+  hull::Index feature = hull::kInvalidIndex;
+};
+
+struct ContactStats {
+  bool cache_hit = false;  // answered from the cached axis
+  int edge_pairs = 0;      // SAT edge pairs that passed the Gauss-map test
+  int clipped_points = 0;  // points after clipping, before the contact-distance filter and reduction
+};
+
+struct ContactResult {
+  Status status = Status::ok;
+  bool intersecting = false;  // distance <= 0
+  // Signed distance along `normal`: < 0 the penetration depth of the chosen
+  // axis. For a separated polytope pair it is the SAT separation, a lower
+  // bound on the distance (exact for face contacts).
+  double distance = 0.0;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, from A toward B, world
+  // The deepest point's witnesses on A and B (world).
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();
+  int count = 0;  // contact points in points[0, count)
+  std::array<ContactPoint, kMaxContactPoints> points{};
+  ContactPath path = ContactPath::none;
+  ContactStats stats;
+};
+
+ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                      ContactCache* cache = nullptr, const ContactSettings& settings = {});
+
+}  // namespace hedra::collision

@@ -1,0 +1,719 @@
+// Contact manifolds (see manifold.hpp for the paths, the point convention and
+// the feature ids). Everything below runs in A's core frame: B's geometry is
+// placed there by the relative pose, and only the final points go to world.
+#include <algorithm>
+#include <cmath>
+#include <hedra/collision/manifold.hpp>
+#include <hedra/hull/mesh_edit.hpp>
+#include <new>
+#include <type_traits>
+
+namespace hedra::collision {
+
+const char* to_string(ContactPath path) {
+  switch (path) {
+    case ContactPath::none:
+      return "none";
+    case ContactPath::separated:
+      return "separated";
+    case ContactPath::face_a:
+      return "face_a";
+    case ContactPath::face_b:
+      return "face_b";
+    case ContactPath::edge:
+      return "edge";
+    case ContactPath::segment:
+      return "segment";
+    case ContactPath::cap:
+      return "cap";
+    case ContactPath::single_point:
+      return "single_point";
+  }
+  return "unknown";
+}
+
+namespace {
+
+using Vec = Eigen::Vector3d;
+using hull::Index;
+
+// Clip buffers: an incident polygon of n vertices clipped by m side planes
+// has at most n + m points; faces whose sum exceeds this take the single
+// point path instead (no allocation, ever).
+constexpr std::size_t kClipCapacity = 256;
+
+// Fixed-capacity storage left uninitialised (types with default member
+// initialisers would otherwise be written in full on every query: 8 kB of
+// side planes cost a quarter of a box-box query).
+template <class T, std::size_t N>
+class UninitializedArray {
+ public:
+  UninitializedArray() {}
+  static_assert(std::is_trivially_destructible_v<T>);
+  T& operator[](std::size_t i) { return reinterpret_cast<T*>(storage_)[i]; }
+  const T& operator[](std::size_t i) const { return reinterpret_cast<const T*>(storage_)[i]; }
+  void set(std::size_t i, const T& value) { new (storage_ + i * sizeof(T)) T(value); }
+
+ private:
+  alignas(T) unsigned char storage_[sizeof(T) * N];
+};
+
+// A candidate contact point in A's core frame: its witnesses on the two
+// cores and its separation along the normal (> 0: a gap).
+struct Candidate {
+  Vec on_a;
+  Vec on_b;
+  double separation;
+  FeatureId id;
+};
+
+// Fixed capacity, left uninitialised until pushed (a few kB per query that
+// default-initialising would write for nothing).
+class CandidateList {
+ public:
+  CandidateList() {}
+  std::size_t size = 0;
+  Candidate& operator[](std::size_t i) { return data()[i]; }
+  const Candidate& operator[](std::size_t i) const { return data()[i]; }
+  void push(const Vec& on_a, const Vec& on_b, double separation, const FeatureId& id) {
+    if (size < kClipCapacity) new (&data()[size++]) Candidate{on_a, on_b, separation, id};
+  }
+
+ private:
+  static_assert(std::is_trivially_destructible_v<Candidate>);
+  Candidate* data() { return reinterpret_cast<Candidate*>(storage_); }
+  const Candidate* data() const { return reinterpret_cast<const Candidate*>(storage_); }
+  alignas(Candidate) unsigned char storage_[sizeof(Candidate) * kClipCapacity];
+};
+
+// Reduction to at most four points (see manifold.hpp): the deepest, the
+// farthest from it, then the largest positive and the largest negative
+// signed areas of the triangle they make with a third point (about n).
+int reduce(const CandidateList& c, const Vec& n, std::array<std::size_t, kMaxContactPoints>& keep) {
+  if (c.size == 0) return 0;
+  std::size_t i0 = 0;
+  for (std::size_t i = 1; i < c.size; ++i)
+    if (c[i].separation < c[i0].separation) i0 = i;
+  keep[0] = i0;
+  if (c.size == 1) return 1;
+  const Vec p0 = c[i0].on_b;
+  std::size_t i1 = i0;
+  double far = 0.0;
+  for (std::size_t i = 0; i < c.size; ++i) {
+    const double d2 = (c[i].on_b - p0).squaredNorm();
+    if (d2 > far) {
+      far = d2;
+      i1 = i;
+    }
+  }
+  if (i1 == i0) return 1;  // all candidates coincide
+  keep[1] = i1;
+  const Vec p1 = c[i1].on_b;
+  std::size_t i2 = i0, i3 = i0;
+  double best_pos = 0.0, best_neg = 0.0;
+  // Areas below this (relative to the span) add nothing: collinear points.
+  const double min_area = 1e-9 * far;
+  for (std::size_t i = 0; i < c.size; ++i) {
+    const double area = (p0 - c[i].on_b).cross(p1 - c[i].on_b).dot(n);
+    if (area > best_pos) {
+      best_pos = area;
+      i2 = i;
+    }
+    if (area < best_neg) {
+      best_neg = area;
+      i3 = i;
+    }
+  }
+  int count = 2;
+  if (best_pos > min_area) keep[count++] = i2;
+  if (-best_neg > min_area) keep[count++] = i3;
+  return count;
+}
+
+// The frame of A's core in the world: x_world = R_a (offset_a + x) + t_a.
+struct WorldFrame {
+  const Pose& pose;
+  Vec offset;
+  Vec point(const Vec& x) const { return pose.rotation * (offset + x) + pose.translation; }
+  Vec direction(const Vec& d) const { return pose.rotation * d; }
+};
+
+// Shifts the cores' candidates by the radii, filters by the contact distance,
+// reduces to four and writes the world result.
+void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b, double contact_distance,
+          const WorldFrame& world, ContactResult& out) {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < c.size; ++i) {
+    Candidate x = c[i];
+    x.separation -= radius_a + radius_b;
+    if (!(x.separation <= contact_distance)) continue;
+    x.on_a += radius_a * normal;
+    x.on_b -= radius_b * normal;
+    c[kept++] = x;
+  }
+  c.size = kept;
+  std::array<std::size_t, kMaxContactPoints> keep{};
+  if (c.size <= static_cast<std::size_t>(kMaxContactPoints)) {
+    // Already reduced (face contacts reduce before their feature ids): keep
+    // all, the deepest first.
+    out.count = static_cast<int>(c.size);
+    for (int k = 0; k < out.count; ++k) keep[k] = static_cast<std::size_t>(k);
+    for (int k = 1; k < out.count; ++k)
+      if (c[keep[k]].separation < c[keep[0]].separation) std::swap(keep[0], keep[k]);
+  } else {
+    out.count = reduce(c, normal, keep);
+  }
+  out.normal = world.direction(normal);
+  for (int k = 0; k < out.count; ++k) {
+    const Candidate& x = c[keep[k]];
+    out.points[k].point = world.point(0.5 * (x.on_a + x.on_b));
+    out.points[k].depth = -x.separation;
+    out.points[k].id = x.id;
+  }
+  if (out.count > 0) {
+    const Candidate& deepest = c[keep[0]];
+    out.distance = deepest.separation;
+    out.point_a = world.point(deepest.on_a);
+    out.point_b = world.point(deepest.on_b);
+  }
+  out.intersecting = out.count > 0 && out.distance <= 0.0;
+}
+
+// A placement of a polytope's frame in A's core frame: x -> R x + t
+// (identity for A itself).
+struct Placement {
+  Eigen::Matrix3d rotation;
+  Vec translation;
+  Vec point(const Vec& x) const { return rotation * x + translation; }
+  Vec direction(const Vec& d) const { return rotation * d; }
+};
+
+// Face contact: reference face `ref_face` of `ref`, incident face searched
+// around inc's support vertex. Candidates' on_a / on_b follow A and B
+// (ref_is_a says which is which). Returns false when a face is too large for
+// the fixed buffers.
+bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatPolytope& inc,
+                  const Placement& inc_place, Index ref_face, bool ref_is_a, double tolerance, double max_separation,
+                  CandidateList& out, int& clipped) {
+  const hull::HalfEdgeMesh& rm = *ref.mesh;
+  const hull::HalfEdgeMesh& im = *inc.mesh;
+  const hull::Plane& rp = ref.plane(ref_face);
+  const Vec n = ref_place.direction(rp.normal);  // A's frame, out of ref
+  const Vec ref_point = ref_place.point(ref.vertex(rm.origin(rm.faces[ref_face].edge)));
+  const double offset = n.dot(ref_point);
+  // Incident face: the most anti-parallel face around inc's support vertex in -n.
+  const Vec m = inc_place.rotation.transpose() * n;  // n in inc's frame
+  const Index v = inc.support(-m);
+  Index inc_face = hull::kInvalidIndex;
+  double best = std::numeric_limits<double>::infinity();
+  for (const Index g : im.vertex_faces(v)) {
+    const double dot = inc.plane(g).normal.dot(m);
+    if (dot < best) {
+      best = dot;
+      inc_face = g;
+    }
+  }
+  if (inc_face == hull::kInvalidIndex) return false;
+  const std::size_t inc_degree = im.face_degree(inc_face), ref_degree = rm.face_degree(ref_face);
+  if (inc_degree + ref_degree > kClipCapacity) return false;
+
+  std::array<Vec, kClipCapacity> buffer_a, buffer_b;
+  std::array<Index, kClipCapacity> inc_edges;
+  std::size_t count = 0;
+  for (const Index e : im.face_edges(inc_face)) {
+    inc_edges[count] = e;
+    buffer_a[count++] = inc_place.point(inc.vertex(im.origin(e)));
+  }
+  const std::size_t inc_count = count;
+  std::array<Vec, kClipCapacity> incident;  // the unclipped polygon, for the feature ids
+  std::copy(buffer_a.begin(), buffer_a.begin() + inc_count, incident.begin());
+
+  // Side planes of the reference face's edges, unit, outward (the face is
+  // on the left of each half-edge); kept for the feature ids.
+  UninitializedArray<hull::Plane, kClipCapacity> sides;
+  std::array<Index, kClipCapacity> side_edges;
+  std::size_t side_count = 0;
+  for (const Index e : rm.face_edges(ref_face)) {
+    const Vec p0 = ref_place.point(ref.vertex(rm.origin(e)));
+    const Vec p1 = ref_place.point(ref.vertex(rm.destination(e)));
+    const Vec side = (p1 - p0).cross(n).normalized();
+    side_edges[side_count] = e;
+    sides.set(side_count++, hull::Plane{side, side.dot(p0)});
+  }
+  Vec* src = buffer_a.data();
+  Vec* dst = buffer_b.data();
+  for (std::size_t k = 0; k < side_count && count > 0; ++k) {
+    const hull::ClipResult r = hull::clip_polygon(src, count, sides[k], dst, kClipCapacity, tolerance);
+    if (r.status != hull::ClipStatus::ok) return false;
+    count = r.count;
+    std::swap(src, dst);
+  }
+
+  // Points within the contact distance, reduced to four here so that the
+  // feature ids below are worked out for the kept points only.
+  CandidateList below;
+  clipped = static_cast<int>(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double s = n.dot(src[i]) - offset;
+    if (s <= max_separation) below.push(src[i], src[i], s, FeatureId{});
+  }
+  std::array<std::size_t, kMaxContactPoints> keep{};
+  const int kept = reduce(below, n, keep);
+  for (int i = 0; i < kept; ++i) {
+    const Vec p = below[keep[i]].on_b;
+    const double s = below[keep[i]].separation;
+    const Vec on_ref = p - s * n;
+    // Feature id: an incident vertex kept as is, else a crossing of an
+    // incident edge with a side plane, else a corner of the reference face.
+    FeatureId id;
+    id.reference_on_b = !ref_is_a;
+    id.reference = ref_face;
+    for (std::size_t k = 0; k < inc_count; ++k)
+      if (incident[k] == p) {
+        id.kind = FeatureKind::face_vertex;
+        id.incident = im.origin(inc_edges[k]);
+        break;
+      }
+    if (id.kind == FeatureKind::none) {
+      double best_side = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < side_count; ++k) {
+        const double d = std::abs(sides[k].signed_distance(p));
+        if (d < best_side) {
+          best_side = d;
+          id.clip = side_edges[k];
+        }
+      }
+      double best_edge = std::numeric_limits<double>::infinity();
+      Index edge = hull::kInvalidIndex;
+      for (std::size_t k = 0; k < inc_count; ++k) {
+        const Vec& a = incident[k];
+        const Vec& b = incident[k + 1 == inc_count ? 0 : k + 1];
+        const Vec ab = b - a;
+        const double t = std::clamp(ab.dot(p - a) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+        const double d = (a + t * ab - p).norm();
+        if (d < best_edge) {
+          best_edge = d;
+          edge = inc_edges[k];
+        }
+      }
+      if (best_edge <= tolerance) {
+        id.kind = FeatureKind::face_clip;
+        id.incident = std::min(edge, im.twin(edge));
+      } else {
+        id.kind = FeatureKind::face_corner;
+        id.incident = inc_face;
+      }
+    }
+    if (ref_is_a)
+      out.push(on_ref, p, s, id);
+    else
+      out.push(p, on_ref, s, id);
+  }
+  return true;
+}
+
+// Closest points of segments p0 + s u and q0 + t v, s, t in [0, 1]
+// (Ericson, Real-Time Collision Detection, 5.1.9, with guarded divisions).
+void closest_segment_points(const Vec& p0, const Vec& u, const Vec& q0, const Vec& v, Vec& on_p, Vec& on_q) {
+  const Vec r = p0 - q0;
+  const double a = u.squaredNorm(), e = v.squaredNorm(), f = v.dot(r);
+  double s = 0.0, t = 0.0;
+  if (a <= 0.0 && e <= 0.0) {
+  } else if (a <= 0.0) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = u.dot(r);
+    if (e <= 0.0) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = u.dot(v), denom = a * e - b * b;
+      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  on_p = p0 + s * u;
+  on_q = q0 + t * v;
+}
+
+template <class T>
+constexpr bool is_polytope_v = std::is_same_v<T, Box> || std::is_same_v<T, Polyhedron>;
+
+// A polytope's SAT view, or false when it has no solid (3D) hull.
+bool polytope_view(const Box& box, BoxPolytopeStorage& storage, SatPolytope& out) {
+  out = sat_polytope(box, storage);
+  return true;
+}
+bool polytope_view(const Polyhedron& p, BoxPolytopeStorage&, SatPolytope& out) {
+  if (p.hull->dimension() != 3) return false;
+  out = sat_polytope(*p.hull);
+  return true;
+}
+
+bool solid(const Box&) { return true; }
+bool solid(const Polyhedron& p) { return p.hull->dimension() == 3; }
+
+double scale_of(const SatPolytope& a, const SatPolytope& b) { return std::max(a.scale, b.scale); }
+
+// Tolerance of the side-plane clipping and of "on a plane / on an edge"
+// decisions: a point within it of a side plane counts as on it, so an
+// incident vertex that a tilt of 1e-6 rad moves across the side plane of an
+// equally wide reference face (stacked equal boxes) stays one vertex with one
+// feature id instead of flipping between a vertex and a clipped point. The
+// price: kept points may lie that far outside the reference face.
+double geometric_tolerance(double scale) { return 1e-6 * scale; }
+
+void flip(ContactResult& r) {
+  r.normal = -r.normal;
+  std::swap(r.point_a, r.point_b);
+  for (int k = 0; k < r.count; ++k) r.points[k].id.reference_on_b = !r.points[k].id.reference_on_b;
+}
+
+ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
+                           const ContactSettings& settings);
+
+template <class SA, class SB>
+ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
+                               const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
+  ContactResult out;
+  BoxPolytopeStorage storage_a, storage_b;
+  SatPolytope pa, pb;
+  polytope_view(a, storage_a, pa);
+  polytope_view(b, storage_b, pb);
+  const RelativePose rel = relative_pose(pose_a, core_offset(a), pose_b, core_offset(b));
+  const double ra = core_radius(a), rb = core_radius(b);
+  const WorldFrame world{pose_a, core_offset(a)};
+  const double scale = scale_of(pa, pb) + std::max(ra, rb);
+  const double core_contact = settings.contact_distance + ra + rb;
+  SatSettings sat;
+  sat.parallel_tolerance = settings.parallel_tolerance;
+  sat.early_out = core_contact;
+
+  auto separated = [&](const SatAxis& axis) {
+    out.path = ContactPath::separated;
+    out.distance = axis.separation - ra - rb;
+    out.normal = world.direction(axis.normal);
+    out.intersecting = false;
+    return out;
+  };
+  if (cache && (cache->axis == SatAxisKind::face_a || cache->axis == SatAxisKind::face_b)) {
+    const bool of_a = cache->axis == SatAxisKind::face_a;
+    const std::size_t faces = of_a ? pa.mesh->face_count() : pb.mesh->face_count();
+    if (cache->feature < faces) {
+      const SatAxis axis = sat_face_axis(pa, pb, rel, of_a, cache->feature);
+      if (axis.separation > core_contact) {
+        out.stats.cache_hit = true;
+        return separated(axis);
+      }
+    }
+  }
+  const SatResult s = sat_query(pa, pb, rel, sat);
+  out.stats.edge_pairs = s.edge_pairs;
+  auto remember = [&](const SatAxis& axis) {
+    if (!cache) return;
+    cache->axis = axis.kind;
+    cache->feature = axis.kind == SatAxisKind::face_a ? axis.feature_a : axis.feature_b;
+  };
+  if (s.separated) {
+    // The axis that proved it is the best one seen last.
+    const SatAxis* axis = &s.face_a;
+    if (s.face_b.separation > axis->separation) axis = &s.face_b;
+    if (s.edge.separation > axis->separation) axis = &s.edge;
+    remember(*axis);
+    return separated(*axis);
+  }
+  // Face axes first, then edges, each challenger beating the incumbent by the bias.
+  const auto bias = [&](double sep) { return settings.relative_bias * std::abs(sep) + settings.absolute_bias * scale; };
+  const SatAxis* best = &s.face_a;
+  if (s.face_b.separation > s.face_a.separation + bias(s.face_a.separation)) best = &s.face_b;
+  if (s.edge.kind == SatAxisKind::edge && s.edge.separation > best->separation + bias(best->separation)) best = &s.edge;
+  remember(*best);
+
+  CandidateList candidates;
+  const Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
+  const Placement placed_b{rel.rotation, rel.translation};
+  const double tol = geometric_tolerance(scale);
+  Vec normal = best->normal;
+  bool built = false;
+  if (best->kind == SatAxisKind::face_a) {
+    out.path = ContactPath::face_a;
+    built = face_contact(pa, identity, pb, placed_b, best->feature_a, true, tol, core_contact, candidates,
+                         out.stats.clipped_points);
+  } else if (best->kind == SatAxisKind::face_b) {
+    out.path = ContactPath::face_b;
+    built = face_contact(pb, placed_b, pa, identity, best->feature_b, false, tol, core_contact, candidates,
+                         out.stats.clipped_points);
+  } else {
+    out.path = ContactPath::edge;
+    const hull::HalfEdgeMesh& ma = *pa.mesh;
+    const hull::HalfEdgeMesh& mb = *pb.mesh;
+    const Index ea = best->feature_a, eb = best->feature_b;
+    const Vec a0 = pa.vertex(ma.origin(ea)), a1 = pa.vertex(ma.destination(ea));
+    const Vec b0 = placed_b.point(pb.vertex(mb.origin(eb))), b1 = placed_b.point(pb.vertex(mb.destination(eb)));
+    Vec on_a, on_b;
+    closest_segment_points(a0, a1 - a0, b0, b1 - b0, on_a, on_b);
+    FeatureId id;
+    id.kind = FeatureKind::edge;
+    id.reference = ea;
+    id.incident = eb;
+    candidates.push(on_a, on_b, best->separation, id);
+    built = true;
+  }
+  if (!built || candidates.size == 0) {
+    // A face too large for the fixed buffers, or an incident face entirely
+    // outside the reference face's side planes (deep contacts near an
+    // edge): one point from penetration().
+    ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+    single.stats = out.stats;
+    return single;
+  }
+  emit(candidates, normal, ra, rb, settings.contact_distance, world, out);
+  if (out.count == 0) {
+    // Nothing within the contact distance after clipping (a gap along the
+    // chosen axis beyond it): report the axis.
+    out.distance = best->separation - ra - rb;
+    out.normal = world.direction(normal);
+    out.intersecting = false;
+  }
+  return out;
+}
+
+// ---- curved shapes against a polytope -------------------------------------
+
+// The face of `poly` whose normal is closest to n (searched around the
+// support vertex in n), if within the angle tolerance (cosine cos_tol).
+Index face_along(const SatPolytope& poly, const Vec& n, double cos_tol) {
+  const Index v = poly.support(n);
+  Index face = hull::kInvalidIndex;
+  double best = cos_tol;
+  for (const Index f : poly.mesh->vertex_faces(v)) {
+    const double dot = poly.plane(f).normal.dot(n);
+    if (dot >= best) {
+      best = dot;
+      face = f;
+    }
+  }
+  return face;
+}
+
+// Segment s0-s1 (A's frame, on B's core) clipped by the side planes of face f.
+bool segment_on_face(const SatPolytope& poly, Index f, const Vec& s0, const Vec& s1, double tol, CandidateList& out) {
+  const hull::HalfEdgeMesh& m = *poly.mesh;
+  const hull::Plane& plane = poly.plane(f);
+  std::array<Vec, 4> buf_a{s0, s1}, buf_b;
+  Vec* src = buf_a.data();
+  Vec* dst = buf_b.data();
+  std::size_t count = 2;
+  for (const Index e : m.face_edges(f)) {
+    const Vec p0 = poly.vertex(m.origin(e));
+    const Vec side = (poly.vertex(m.destination(e)) - p0).cross(plane.normal);
+    const hull::ClipResult r = hull::clip_polygon(src, count, {side, side.dot(p0)}, dst, buf_b.size(), tol);
+    if (r.status != hull::ClipStatus::ok) return false;
+    count = r.count;
+    std::swap(src, dst);
+    if (count == 0) break;
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec& p = src[i];
+    FeatureId id;
+    id.kind = FeatureKind::segment;
+    id.reference = f;
+    if (p == s0) {
+      id.incident = 0;
+    } else if (p == s1) {
+      id.incident = 1;
+    } else {
+      double best = std::numeric_limits<double>::infinity();
+      for (const Index e : m.face_edges(f)) {
+        const Vec p0 = poly.vertex(m.origin(e));
+        const Vec side = (poly.vertex(m.destination(e)) - p0).cross(plane.normal).normalized();
+        const double d = std::abs(side.dot(p - p0));
+        if (d < best) {
+          best = d;
+          id.clip = e;
+        }
+      }
+      id.incident = 2;
+    }
+    const double s = plane.signed_distance(p);
+    out.push(p - s * plane.normal, p, s, id);
+  }
+  return true;
+}
+
+// Cap disc (centre c, outward unit normal cn, radius r, local axes ux, uy in
+// A's frame) against face f of `poly`; see manifold.hpp.
+void cap_on_face(const SatPolytope& poly, Index f, const Vec& c, const Vec& cn, double r, const Vec& ux, const Vec& uy,
+                 double tol, CandidateList& out) {
+  const hull::HalfEdgeMesh& m = *poly.mesh;
+  const hull::Plane& plane = poly.plane(f);
+  const Vec& n = plane.normal;
+  auto inside_face = [&](const Vec& x) {
+    for (const Index e : m.face_edges(f)) {
+      const Vec p0 = poly.vertex(m.origin(e));
+      const Vec side = (poly.vertex(m.destination(e)) - p0).cross(n);
+      if (side.dot(x - p0) > tol * side.norm()) return false;
+    }
+    return true;
+  };
+  auto add = [&](const Vec& x, std::uint32_t which) {
+    FeatureId id;
+    id.kind = FeatureKind::cap;
+    id.reference = f;
+    id.incident = which;
+    const double s = plane.signed_distance(x);
+    out.push(x - s * n, x, s, id);
+  };
+  const Vec rims[4] = {ux, -ux, uy, -uy};
+  for (std::uint32_t k = 0; k < 4; ++k)
+    if (inside_face(c + r * rims[k])) add(c + r * rims[k], k);
+  // The deepest rim point: towards -n within the cap plane.
+  const Vec w = -(n - n.dot(cn) * cn);
+  const double wn = w.norm();
+  if (wn > 1e-12 && inside_face(c + (r / wn) * w)) add(c + (r / wn) * w, 4);
+  // Project the polygon onto the cap plane along n: p -> p - ((p - c).cn / n.cn) n.
+  const double ncn = n.dot(cn);  // close to -1 here
+  auto project = [&](const Vec& p) { return Vec(p - ((p - c).dot(cn) / ncn) * n); };
+  const double r2 = r * r;
+  for (const Index e : m.face_edges(f)) {
+    const Vec q0 = project(poly.vertex(m.origin(e)));
+    const Vec q1 = project(poly.vertex(m.destination(e)));
+    if ((q0 - c).squaredNorm() <= r2) add(q0, 8 + m.origin(e));
+    // |q0 + s dq - c|^2 = r^2 for s in (0, 1): the edge crossing the rim.
+    const Vec dq = q1 - q0, rel = q0 - c;
+    const double qa = dq.squaredNorm(), qb = dq.dot(rel), qc = rel.squaredNorm() - r2;
+    const double disc = qb * qb - qa * qc;
+    if (!(qa > 0.0) || !(disc >= 0.0)) continue;
+    const double root = std::sqrt(disc);
+    const double roots[2] = {(-qb - root) / qa, (-qb + root) / qa};
+    for (int k = 0; k < 2; ++k)
+      if (roots[k] > 0.0 && roots[k] < 1.0) add(q0 + roots[k] * dq, (1u << 20) + 2 * e + static_cast<std::uint32_t>(k));
+  }
+}
+
+// The world result from penetration(): one point.
+ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
+                           const ContactSettings& settings) {
+  ContactResult out;
+  const PenetrationResult p = penetration(a, pose_a, b, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
+  out.status = p.status;
+  out.path = ContactPath::single_point;
+  if (p.status == Status::degenerate || p.status == Status::invalid_input) return out;
+  out.distance = p.distance;
+  out.normal = p.normal;
+  out.point_a = p.point_a;
+  out.point_b = p.point_b;
+  out.intersecting = p.distance <= 0.0;
+  if (p.distance <= settings.contact_distance) {
+    out.count = 1;
+    out.points[0].point = 0.5 * (p.point_a + p.point_b);
+    out.points[0].depth = -p.distance;
+    out.points[0].id.kind = FeatureKind::single;
+  } else {
+    out.path = ContactPath::separated;
+  }
+  return out;
+}
+
+// A polytope A against a capsule, cylinder or cone B.
+template <class SA, class SB>
+ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
+                             const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
+  ContactResult first = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+  if (first.count == 0 || first.status != Status::ok) return first;
+  BoxPolytopeStorage storage;
+  SatPolytope pa;
+  if (!polytope_view(a, storage, pa)) return first;
+  const RelativePose rel = relative_pose(pose_a, core_offset(a), pose_b, core_offset(b));
+  const double ra = core_radius(a), rb = core_radius(b);
+  const WorldFrame world{pose_a, core_offset(a)};
+  const Vec n = pose_a.rotation.transpose() * first.normal;  // A's frame, A -> B
+  const double cos_tol = std::cos(settings.face_angle_tolerance);
+  const double sin_tol = std::sin(settings.face_angle_tolerance);
+  const Index f = face_along(pa, n, cos_tol);
+  if (f == hull::kInvalidIndex) return first;
+  const Vec& nf = pa.plane(f).normal;
+  const double scale = std::max(pa.scale, bounding_radius(b));
+  const double tol = geometric_tolerance(scale);
+  const Vec axis = rel.rotation.col(2);  // B's z in A's frame
+  CandidateList candidates;
+  ContactResult out;
+  out.stats = first.stats;
+  if constexpr (std::is_same_v<SB, Capsule>) {
+    const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
+    if (!segment_on_face(pa, f, s0, s1, tol, candidates)) return first;
+    out.path = ContactPath::segment;
+  } else {
+    // Cylinder: caps at +-h; cone: the base at -h only.
+    const Vec centre = rel.translation;
+    const double h = b.half_length;
+    const double an = axis.dot(nf);
+    const bool cylinder = std::is_same_v<SB, Cylinder>;
+    const bool cap_down = an >= cos_tol;             // the cap at -h faces A
+    const bool cap_up = cylinder && -an >= cos_tol;  // the cap at +h faces A
+    // The side's straight line nearest the face, toward A (radial -n).
+    Vec u = -(nf - an * axis);
+    const double un = u.norm();
+    if (cap_down || cap_up) {
+      const Vec cn = cap_up ? axis : Vec(-axis);
+      cap_on_face(pa, f, centre + h * cn, cn, b.radius, rel.rotation.col(0), rel.rotation.col(1), tol, candidates);
+      out.path = ContactPath::cap;
+    } else if (un > 0.0) {
+      u /= un;
+      const Vec s0 = cylinder ? Vec(centre - h * axis + b.radius * u) : Vec(centre - h * axis + b.radius * u);
+      const Vec s1 = cylinder ? Vec(centre + h * axis + b.radius * u) : Vec(centre + h * axis);
+      const Vec g = s1 - s0;
+      if (!(std::abs(g.dot(nf)) <= sin_tol * g.norm())) return first;  // not lying along the face
+      if (!segment_on_face(pa, f, s0, s1, tol, candidates)) return first;
+      out.path = ContactPath::segment;
+    } else {
+      return first;
+    }
+  }
+  out.stats.clipped_points = static_cast<int>(candidates.size);
+  emit(candidates, nf, ra, rb, settings.contact_distance, world, out);
+  if (out.count == 0) return first;
+  return out;
+}
+
+template <class SA, class SB>
+ContactResult contact_typed(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
+                            const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
+  constexpr bool curved_a = std::is_same_v<SA, Capsule> || std::is_same_v<SA, Cylinder> || std::is_same_v<SA, Cone>;
+  constexpr bool curved_b = std::is_same_v<SB, Capsule> || std::is_same_v<SB, Cylinder> || std::is_same_v<SB, Cone>;
+  if constexpr (is_polytope_v<SA> && is_polytope_v<SB>) {
+    if (!solid(a) || !solid(b)) return single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+    return polytope_contact(shape_a, a, pose_a, shape_b, b, pose_b, cache, settings);
+  } else if constexpr (is_polytope_v<SA> && curved_b) {
+    return curved_contact(shape_a, a, pose_a, shape_b, b, pose_b, cache, settings);
+  } else if constexpr (curved_a && is_polytope_v<SB>) {
+    ContactResult r = curved_contact(shape_b, b, pose_b, shape_a, a, pose_a, cache, settings);
+    flip(r);
+    return r;
+  } else {
+    return single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+  }
+}
+
+}  // namespace
+
+ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
+                      const ContactSettings& settings) {
+  if (!pose_a.finite() || !pose_b.finite() || !validate(a).ok() || !validate(b).ok() ||
+      !std::isfinite(settings.contact_distance)) {
+    ContactResult out;
+    out.status = Status::invalid_input;
+    return out;
+  }
+  return std::visit(
+      [&](const auto& sa, const auto& sb) { return contact_typed(a, sa, pose_a, b, sb, pose_b, cache, settings); }, a,
+      b);
+}
+
+}  // namespace hedra::collision

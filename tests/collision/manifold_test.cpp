@@ -1,0 +1,382 @@
+// Contact manifolds (manifold.hpp): closed-form box cases (face-face,
+// slab, edge-edge, vertex-face, speculative), stability of the manifold under
+// tilts of 1e-6 rad, random hull pairs against the exact depth (qhull) with
+// every point checked on both surfaces, capsule / cylinder / sphere on a box,
+// the per-pair cache, and no allocation per query. Fixed seeds.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <hedra/collision/manifold.hpp>
+#include <random>
+
+#include "allocation_counter.hpp"
+#include "collision_test_support.hpp"
+
+namespace hedra::collision {
+namespace {
+
+using testing::make_hull;
+using testing::random_points;
+using testing::random_unit;
+using Vec = Eigen::Vector3d;
+
+Pose rotated(const Vec& axis, double angle, const Vec& t) {
+  return Pose::from_quaternion(Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized())), t);
+}
+
+Vec on_a(const ContactPoint& p, const ContactResult& r) { return p.point + 0.5 * p.depth * r.normal; }
+Vec on_b(const ContactPoint& p, const ContactResult& r) { return p.point - 0.5 * p.depth * r.normal; }
+
+// Signed distance of a world point to a posed box (exact outside and inside).
+double box_distance(const Vec& half, const Pose& pose, const Vec& x) {
+  const Vec q = (pose.rotation.transpose() * (x - pose.translation)).cwiseAbs() - half;
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
+// Largest plane distance of a world point to a posed hull: 0 on its surface.
+double hull_plane_distance(const ConvexPolyhedron& h, const Pose& pose, const Vec& x) {
+  const Vec local = pose.rotation.transpose() * (x - pose.translation) - h.offset();
+  double d = -INFINITY;
+  for (hull::Index f = 0; f < h.mesh().face_count(); ++f) d = std::max(d, h.mesh().plane(f).signed_distance(local));
+  return d;
+}
+
+bool has_id(const ContactResult& r, const FeatureId& id) {
+  for (int k = 0; k < r.count; ++k)
+    if (r.points[k].id == id) return true;
+  return false;
+}
+
+TEST(Manifold, BoxFaceFaceGivesFourPointsAtTheDepth) {
+  const Shape a = Box{{1.0, 1.0, 1.0}}, b = Box{{0.5, 0.5, 0.5}};
+  const Pose pa = Pose::identity();
+  const Pose pb = rotated(Vec::UnitZ(), 0.3, Vec(0.1, -0.2, 1.4));  // 0.1 deep
+  const ContactResult r = contact(a, pa, b, pb);
+  ASSERT_EQ(r.status, Status::ok);
+  EXPECT_EQ(r.path, ContactPath::face_a);
+  ASSERT_EQ(r.count, 4);
+  EXPECT_TRUE(r.intersecting);
+  EXPECT_NEAR(r.distance, -0.1, 1e-12);
+  EXPECT_LT((r.normal - Vec(0, 0, 1)).norm(), 1e-14);
+  for (int k = 0; k < r.count; ++k) {
+    EXPECT_NEAR(r.points[k].depth, 0.1, 1e-12);
+    EXPECT_EQ(r.points[k].id.kind, FeatureKind::face_vertex);
+    // B's bottom corners: on B's surface and on A's top face.
+    EXPECT_NEAR(box_distance({0.5, 0.5, 0.5}, pb, on_b(r.points[k], r)), 0.0, 1e-12);
+    EXPECT_NEAR(box_distance({1, 1, 1}, pa, on_a(r.points[k], r)), 0.0, 1e-12);
+    for (int j = 0; j < k; ++j) EXPECT_NE(r.points[j].id, r.points[k].id);
+  }
+}
+
+TEST(Manifold, BoxOnBigSlabFarFromTheOrigin) {
+  const Vec far(1e6, -2e6, 3e5);
+  const Shape slab = Box{{100.0, 100.0, 1.0}}, box = Box{{0.5, 0.25, 0.5}};
+  const Pose ps = Pose::from_translation(far);
+  const Pose pb = rotated(Vec::UnitZ(), 1.0, far + Vec(30.0, 20.0, 1.49));  // 0.01 deep
+  const ContactResult r = contact(slab, ps, box, pb);
+  ASSERT_EQ(r.count, 4);
+  EXPECT_EQ(r.path, ContactPath::face_a);
+  for (int k = 0; k < r.count; ++k) EXPECT_NEAR(r.points[k].depth, 0.01, 1e-9);
+  // The box's corners: the manifold's area is the box's bottom face.
+  const Vec d1 = r.points[1].point - r.points[0].point;
+  double max_span = 0.0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) max_span = std::max(max_span, (r.points[i].point - r.points[j].point).norm());
+  EXPECT_NEAR(max_span, std::hypot(1.0, 0.5), 1e-9);
+  EXPECT_GT(d1.norm(), 0.0);
+  // Swapped: both faces are equally deep, A's (now the box's) wins; the
+  // normal flips.
+  const ContactResult s = contact(box, pb, slab, ps);
+  ASSERT_EQ(s.count, 4);
+  EXPECT_EQ(s.path, ContactPath::face_a);
+  EXPECT_LT((s.normal + r.normal).norm(), 1e-12);
+}
+
+TEST(Manifold, CrossedEdgesGiveOnePointAtTheClosestPoints) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  const Vec h(0.5, 0.5, 0.5);
+  const Shape a = Box{h}, b = Box{h};
+  const hull::HalfEdgeMesh& mesh = unit_box_mesh();
+  int edges = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    // A's top is an edge along x, B's bottom an edge along y, overlapping by 0.05.
+    const Pose pa = rotated(Vec(1, jitter(rng), jitter(rng)), M_PI / 4 + jitter(rng), Vec::Zero());
+    const Pose pb = rotated(Vec(jitter(rng), 1, jitter(rng)), M_PI / 4 + jitter(rng),
+                            Vec(jitter(rng), jitter(rng), std::sqrt(2.0) - 0.05));
+    const ContactResult r = contact(a, pa, b, pb);
+    ASSERT_EQ(r.status, Status::ok);
+    ASSERT_EQ(r.path, ContactPath::edge) << trial;
+    ++edges;
+    ASSERT_EQ(r.count, 1);
+    const FeatureId& id = r.points[0].id;
+    ASSERT_EQ(id.kind, FeatureKind::edge);
+    const Vec a0 = pa.apply(mesh.position(mesh.origin(id.reference)).cwiseProduct(h));
+    const Vec a1 = pa.apply(mesh.position(mesh.destination(id.reference)).cwiseProduct(h));
+    const Vec b0 = pb.apply(mesh.position(mesh.origin(id.incident)).cwiseProduct(h));
+    const Vec b1 = pb.apply(mesh.position(mesh.destination(id.incident)).cwiseProduct(h));
+    // The witnesses are the closest points of the two edges (brute force).
+    EXPECT_NEAR((r.point_b - r.point_a).norm(), testing::segment_distance(a0, a1, b0, b1), 1e-12);
+    EXPECT_NEAR((testing::closest_on_segment(r.point_a, a0, a1) - r.point_a).norm(), 0.0, 1e-12);
+    EXPECT_NEAR((testing::closest_on_segment(r.point_b, b0, b1) - r.point_b).norm(), 0.0, 1e-12);
+    // And the depth is the exact penetration depth.
+    const PenetrationResult p = penetration(a, pa, b, pb);
+    EXPECT_NEAR(r.points[0].depth, -p.distance, 1e-9);
+    EXPECT_NEAR(box_distance(h, pa, r.point_a), 0.0, 1e-12);
+  }
+  EXPECT_EQ(edges, 20);
+}
+
+TEST(Manifold, NearlyParallelFacesKeepTheirManifoldAcrossTilts) {
+  const Shape a = Box{{1.0, 1.0, 0.5}}, b = Box{{0.5, 0.5, 0.5}};
+  const Pose pa = Pose::identity();
+  const ContactResult ref = contact(a, pa, b, Pose::from_translation({0.2, 0.1, 0.99}));
+  ASSERT_EQ(ref.count, 4);
+  for (const double tilt : {1e-6, -1e-6, 3e-6, 1e-7})
+    for (const Vec& axis : {Vec(1, 0, 0), Vec(0, 1, 0), Vec(1, 1, 0), Vec(1, -2, 0)}) {
+      // Frames of a resting box: slightly tilted, slightly moved.
+      const ContactResult r = contact(a, pa, b, rotated(axis, tilt, Vec(0.2 + tilt, 0.1, 0.99)));
+      ASSERT_EQ(r.path, ref.path) << tilt;
+      ASSERT_EQ(r.count, 4);
+      EXPECT_EQ(r.normal, ref.normal);  // the reference face's normal, bit for bit
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_TRUE(has_id(ref, r.points[k].id)) << "tilt " << tilt << " point " << k;
+        EXPECT_NEAR(r.points[k].depth, 0.01, 0.75 * std::abs(tilt) + 1e-12);
+      }
+    }
+  // Equal boxes face to face: A's face wins over B's equally good one.
+  const ContactResult same = contact(b, pa, b, rotated(Vec::UnitX(), 1e-6, Vec(0, 0, 0.999)));
+  EXPECT_EQ(same.path, ContactPath::face_a);
+  const ContactResult same2 = contact(b, pa, b, rotated(Vec::UnitX(), -1e-6, Vec(0, 0, 0.999)));
+  EXPECT_EQ(same2.path, ContactPath::face_a);
+  ASSERT_EQ(same.count, 4);
+  ASSERT_EQ(same2.count, 4);
+  for (int k = 0; k < 4; ++k) EXPECT_TRUE(has_id(same, same2.points[k].id));
+}
+
+TEST(Manifold, VertexOnFaceGivesOnePoint) {
+  const Shape a = Box{{2.0, 2.0, 1.0}}, b = Box{{0.5, 0.5, 0.5}};
+  // B's corner (-,-,-) straight down.
+  const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(Vec(-1, -1, -1).normalized(), Vec(0, 0, -1));
+  const double corner = 0.5 * std::sqrt(3.0);
+  const Pose pb = Pose::from_quaternion(q, Vec(0.3, 0.2, 1.0 + corner - 0.02));
+  const ContactResult r = contact(a, Pose::identity(), b, pb);
+  EXPECT_EQ(r.path, ContactPath::face_a);
+  ASSERT_EQ(r.count, 1);
+  EXPECT_NEAR(r.points[0].depth, 0.02, 1e-12);
+  EXPECT_EQ(r.points[0].id.kind, FeatureKind::face_vertex);
+  EXPECT_NEAR((r.point_b - Vec(0.3, 0.2, 0.98)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((r.point_a - Vec(0.3, 0.2, 1.0)).norm(), 0.0, 1e-12);
+}
+
+TEST(Manifold, SeparatedWithinTheContactDistanceGivesNegativeDepths) {
+  const Shape a = Box{{1.0, 1.0, 1.0}}, b = Box{{0.5, 0.5, 0.5}};
+  const Pose pb = Pose::from_translation({0.0, 0.0, 1.52});  // 0.02 apart
+  ContactSettings settings;
+  settings.contact_distance = 0.05;
+  const ContactResult r = contact(a, Pose::identity(), b, pb, nullptr, settings);
+  ASSERT_EQ(r.count, 4);
+  EXPECT_FALSE(r.intersecting);
+  EXPECT_NEAR(r.distance, 0.02, 1e-12);
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(r.points[k].depth, -0.02, 1e-12);
+  settings.contact_distance = 0.01;
+  const ContactResult none = contact(a, Pose::identity(), b, pb, nullptr, settings);
+  EXPECT_EQ(none.count, 0);
+  EXPECT_EQ(none.path, ContactPath::separated);
+  EXPECT_NEAR(none.distance, 0.02, 1e-12);
+  // A margin (rounded box) is the core's manifold shifted by the radius.
+  const Shape rounded = Box{{0.45, 0.45, 0.45}, 0.05};
+  const ContactResult m = contact(a, Pose::identity(), rounded, Pose::from_translation({0.0, 0.0, 1.48}));
+  ASSERT_EQ(m.count, 4);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(m.points[k].depth, 0.02, 1e-12);
+    EXPECT_NEAR(on_a(m.points[k], m).z(), 1.0, 1e-12);
+  }
+}
+
+TEST(Manifold, RandomHullPairsMatchTheExactDepthAndLieOnBothSurfaces) {
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  ContactSettings settings;
+  int tested = 0, faces = 0, edges = 0;
+  for (int trial = 0; trial < 80; ++trial) {
+    const auto ha = make_hull(random_points(rng, 8 + trial % 40, Vec(1.0, 0.8, 0.6)));
+    const auto hb = make_hull(random_points(rng, 8 + trial % 25, Vec(0.7, 0.5, 0.9)));
+    const Pose pa = Pose::from_quaternion(Eigen::Quaterniond::UnitRandom(), 10.0 * Vec(u(rng), u(rng), u(rng)));
+    const Pose pb = Pose::from_quaternion(Eigen::Quaterniond::UnitRandom(), pa.translation + 0.9 * random_unit(rng));
+    const Shape a = Polyhedron{ha}, b = Polyhedron{hb};
+    const ContactResult r = contact(a, pa, b, pb, nullptr, settings);
+    ASSERT_EQ(r.status, Status::ok);
+    const std::vector<Vec> va = testing::world_vertices(*ha, pa), vb = testing::world_vertices(*hb, pb);
+    const double exact = testing::reference_distance(va, vb);
+    const double scale = ha->bounding_radius() + hb->bounding_radius();
+    const double tol = 1e-9 * scale;
+    if (exact > tol) {
+      EXPECT_EQ(r.count, 0) << trial;
+      continue;
+    }
+    const PenetrationResult p = penetration(a, pa, b, pb);
+    const double depth = -p.distance;  // EPA's, itself checked against the reference in epa_test
+    if (depth < 1e-6 * scale) continue;
+    ++tested;
+    faces += r.path == ContactPath::face_a || r.path == ContactPath::face_b;
+    edges += r.path == ContactPath::edge;
+    ASSERT_GE(r.count, 1) << trial << " " << to_string(r.path) << " clipped " << r.stats.clipped_points << " dist "
+                          << r.distance << " depth " << depth;
+    double deepest = -INFINITY;
+    for (int k = 0; k < r.count; ++k) {
+      deepest = std::max(deepest, r.points[k].depth);
+      EXPECT_NEAR(hull_plane_distance(*ha, pa, on_a(r.points[k], r)), 0.0, tol) << trial << " point " << k;
+      EXPECT_NEAR(hull_plane_distance(*hb, pb, on_b(r.points[k], r)), 0.0, tol) << trial << " point " << k;
+      EXPECT_GE(r.points[k].depth, -tol);
+    }
+    // The chosen axis is at most the face bias worse than the best one; the
+    // deepest point sits on it unless clipping removed the support vertex.
+    const double bias = settings.relative_bias * depth + settings.absolute_bias * scale + tol;
+    EXPECT_LE(deepest, depth + bias) << trial;
+    EXPECT_GE(-r.distance, depth - tol) << trial;
+    EXPECT_LE(-r.distance, depth + bias) << trial;
+  }
+  EXPECT_GT(tested, 30);
+  EXPECT_GT(faces, 5);
+  EXPECT_GT(edges, 0);
+}
+
+TEST(Manifold, CapsuleLyingOnABoxGivesTwoPoints) {
+  const Shape box = Box{{2.0, 2.0, 1.0}}, capsule = Capsule{0.8, 0.25};
+  const Pose pc = rotated(Vec::UnitY(), M_PI / 2, Vec(0.1, 0.3, 1.24));  // axis along x, 0.01 deep
+  const ContactResult r = contact(box, Pose::identity(), capsule, pc);
+  EXPECT_EQ(r.path, ContactPath::segment);
+  ASSERT_EQ(r.count, 2);
+  EXPECT_LT((r.normal - Vec(0, 0, 1)).norm(), 1e-9);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_NEAR(r.points[k].depth, 0.01, 1e-9);
+    EXPECT_NEAR(std::abs(r.points[k].point.x() - 0.1), 0.8, 1e-9);
+  }
+  // Swapped: same points, normal flipped.
+  const ContactResult s = contact(capsule, pc, box, Pose::identity());
+  ASSERT_EQ(s.count, 2);
+  EXPECT_LT((s.normal + Vec(0, 0, 1)).norm(), 1e-9);
+  // Hanging over the box's edge: the segment is clipped at x = 2.
+  const ContactResult over =
+      contact(box, Pose::identity(), capsule, rotated(Vec::UnitY(), M_PI / 2, Vec(1.6, 0, 1.24)));
+  ASSERT_EQ(over.count, 2);
+  EXPECT_NEAR(std::max(over.points[0].point.x(), over.points[1].point.x()), 2.0, 1e-9);
+  // Tilted on one end: one point (the other end is far above).
+  const ContactResult tilted = contact(box, Pose::identity(), capsule, rotated(Vec::UnitY(), 1.2, Vec(0, 0, 1.5)));
+  EXPECT_EQ(tilted.count, 1);
+}
+
+TEST(Manifold, CylinderStandingOnItsCapGivesRimPoints) {
+  const Shape box = Box{{2.0, 2.0, 1.0}}, cylinder = Cylinder{0.5, 1.0};
+  const Pose pc = Pose::from_translation({0.3, -0.2, 1.99});  // 0.01 deep
+  const ContactResult r = contact(box, Pose::identity(), cylinder, pc);
+  EXPECT_EQ(r.path, ContactPath::cap);
+  ASSERT_EQ(r.count, 4);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(r.points[k].depth, 0.01, 1e-12);
+    EXPECT_NEAR((r.points[k].point - Vec(0.3, -0.2, r.points[k].point.z())).norm(), 0.5, 1e-12);  // on the rim
+  }
+  // Tilted by 1e-3 rad: still four rim points, the deepest first, exact depths.
+  const Pose tilted = rotated(Vec::UnitX(), 5e-4, Vec(0.3, -0.2, 1.99));
+  const ContactResult t = contact(box, Pose::identity(), cylinder, tilted);
+  ASSERT_EQ(t.count, 4);
+  for (int k = 0; k < 4; ++k) {
+    const Vec local = tilted.rotation.transpose() * (on_b(t.points[k], t) - tilted.translation);
+    EXPECT_NEAR(local.z(), -1.0, 1e-12);  // on the bottom cap
+    EXPECT_NEAR(std::hypot(local.x(), local.y()), 0.5, 1e-12);
+    EXPECT_NEAR(on_a(t.points[k], t).z(), 1.0, 1e-12);
+  }
+  EXPECT_NEAR(t.points[0].depth, -contact(box, Pose::identity(), cylinder, tilted).distance, 1e-12);
+  EXPECT_NEAR(t.points[0].depth, -penetration(box, Pose::identity(), cylinder, tilted).distance, 1e-9);
+  // On a box smaller than the cap: the box's top corners.
+  const ContactResult small =
+      contact(Box{{0.2, 0.2, 0.2}}, Pose::identity(), cylinder, Pose::from_translation({0, 0, 1.19}));
+  ASSERT_EQ(small.count, 4);
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(std::abs(small.points[k].point.x()), 0.2, 1e-12);
+  // Lying on its side: the generator line, two points.
+  const ContactResult side = contact(box, Pose::identity(), cylinder, rotated(Vec::UnitX(), M_PI / 2, Vec(0, 0, 1.49)));
+  EXPECT_EQ(side.path, ContactPath::segment);
+  ASSERT_EQ(side.count, 2);
+  EXPECT_NEAR(side.points[0].depth, 0.01, 1e-9);
+  // A cone on its base.
+  const ContactResult cone = contact(box, Pose::identity(), Cone{0.5, 0.5}, Pose::from_translation({0, 0, 1.49}));
+  EXPECT_EQ(cone.path, ContactPath::cap);
+  EXPECT_EQ(cone.count, 4);
+}
+
+TEST(Manifold, FacesBeyondTheFixedBuffersFallBackToOnePoint) {
+  // A 300-gon prism: its caps exceed the clip buffers (256 points), so a box
+  // on a cap gets one point from penetration(), still at the right depth.
+  std::vector<Vec> points;
+  for (int i = 0; i < 300; ++i) {
+    const double t = 2.0 * M_PI * i / 300.0;
+    points.push_back(Vec(2.0 * std::cos(t), 2.0 * std::sin(t), -0.5));
+    points.push_back(Vec(2.0 * std::cos(t), 2.0 * std::sin(t), 0.5));
+  }
+  const Shape prism = Polyhedron{make_hull(points)};
+  const ContactResult r = contact(prism, Pose::identity(), Box{{0.5, 0.5, 0.5}}, Pose::from_translation({0, 0, 0.99}));
+  EXPECT_EQ(r.path, ContactPath::single_point);
+  ASSERT_EQ(r.count, 1);
+  EXPECT_NEAR(r.points[0].depth, 0.01, 1e-9);
+  EXPECT_LT((r.normal - Vec(0, 0, 1)).norm(), 1e-9);
+  // A small prism's cap fits: four points.
+  points.resize(2 * 40);
+  for (int i = 0; i < 40; ++i) {
+    const double t = 2.0 * M_PI * i / 40.0;
+    points[2 * i] = Vec(2.0 * std::cos(t), 2.0 * std::sin(t), -0.5);
+    points[2 * i + 1] = Vec(2.0 * std::cos(t), 2.0 * std::sin(t), 0.5);
+  }
+  const ContactResult small = contact(Polyhedron{make_hull(points)}, Pose::identity(), Box{{0.5, 0.5, 0.5}},
+                                      Pose::from_translation({0, 0, 0.99}));
+  EXPECT_EQ(small.path, ContactPath::face_a);
+  EXPECT_EQ(small.count, 4);
+}
+
+TEST(Manifold, SphereOnABoxGivesOnePoint) {
+  const ContactResult r =
+      contact(Box{{1, 1, 1}}, Pose::identity(), Sphere{0.5}, Pose::from_translation({0.2, 0.1, 1.45}));
+  EXPECT_EQ(r.path, ContactPath::single_point);
+  ASSERT_EQ(r.count, 1);
+  EXPECT_NEAR(r.points[0].depth, 0.05, 1e-9);
+  EXPECT_NEAR((r.point_a - Vec(0.2, 0.1, 1.0)).norm(), 0.0, 1e-9);
+}
+
+TEST(Manifold, CacheSkipsTheFullTestOnlyWhenTheCachedAxisSeparates) {
+  const Shape a = Box{{1, 1, 1}}, b = Box{{0.5, 0.5, 0.5}};
+  ContactCache cache;
+  const Pose apart = Pose::from_translation({0, 0, 2.0});
+  const ContactResult first = contact(a, Pose::identity(), b, apart, &cache);
+  EXPECT_FALSE(first.stats.cache_hit);
+  EXPECT_EQ(first.count, 0);
+  const ContactResult second = contact(a, Pose::identity(), b, apart, &cache);
+  EXPECT_TRUE(second.stats.cache_hit);
+  EXPECT_EQ(second.distance, first.distance);
+  // Once touching, the full test runs again and gives the same manifold as without a cache.
+  const Pose resting = Pose::from_translation({0, 0, 1.49});
+  const ContactResult third = contact(a, Pose::identity(), b, resting, &cache);
+  const ContactResult fresh = contact(a, Pose::identity(), b, resting);
+  EXPECT_FALSE(third.stats.cache_hit);
+  ASSERT_EQ(third.count, fresh.count);
+  for (int k = 0; k < third.count; ++k) EXPECT_EQ(third.points[k].point, fresh.points[k].point);
+}
+
+TEST(Manifold, QueriesAllocateNothing) {
+  std::mt19937_64 rng(3);
+  const auto hull = make_hull(random_points(rng, 100, Vec(1, 1, 1)));
+  const Shape shapes[] = {Box{{1, 1, 1}},     Polyhedron{hull}, Capsule{0.5, 0.3},
+                          Cylinder{0.5, 0.5}, Sphere{0.5},      Cone{0.5, 0.5}};
+  const Pose pb = rotated(Vec(1, 2, 3), 0.4, Vec(0.3, 0.2, 1.2));
+  ContactCache cache;
+  for (const Shape& a : shapes)
+    for (const Shape& b : shapes) contact(a, Pose::identity(), b, pb, &cache);  // warm-up (the box topology)
+  const long before = g_allocations.load();
+  int points = 0;
+  for (const Shape& a : shapes)
+    for (const Shape& b : shapes) points += contact(a, Pose::identity(), b, pb, &cache).count;
+  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_GT(points, 20);
+}
+
+}  // namespace
+}  // namespace hedra::collision

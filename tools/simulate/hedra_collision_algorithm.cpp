@@ -1,0 +1,98 @@
+// hedra's contact manifolds as a Bullet collision algorithm (see the header).
+#include "hedra_collision_algorithm.hpp"
+
+#include <atomic>
+#include <vector>
+
+namespace hedra::simulate {
+namespace {
+
+std::atomic<long> g_queries{0};
+std::atomic<long> g_points{0};
+
+Eigen::Vector3d to_eigen(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
+btVector3 to_bullet(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+collision::Pose to_pose(const btTransform& t) {
+  collision::Pose p;
+  const btMatrix3x3& b = t.getBasis();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) p.rotation(i, j) = b[i][j];
+  p.translation = to_eigen(t.getOrigin());
+  return p;
+}
+
+}  // namespace
+
+bool ShapeCache::get(const btCollisionShape* shape, collision::Shape& out) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto found = shapes_.find(shape);
+  if (found != shapes_.end()) {
+    out = found->second;
+    return true;
+  }
+  collision::Shape made;
+  if (shape->getShapeType() == BOX_SHAPE_PROXYTYPE) {
+    const auto* box = static_cast<const btBoxShape*>(shape);
+    made = collision::Box{to_eigen(box->getHalfExtentsWithMargin())};
+  } else if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
+    const auto* hull = static_cast<const btConvexHullShape*>(shape);
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < hull->getNumPoints(); ++i) points.push_back(to_eigen(hull->getScaledPoint(i)));
+    const auto built = collision::ConvexPolyhedron::build(points);
+    if (!built.ok()) return false;
+    made = collision::Polyhedron{built.polyhedron, hull->getMargin()};
+  } else {
+    return false;
+  }
+  shapes_.emplace(shape, made);
+  out = made;
+  return true;
+}
+
+HedraCollisionAlgorithm::HedraCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
+                                                 const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
+                                                 ShapeCache* shapes)
+    : btActivatingCollisionAlgorithm(ci, a, b), shapes_(shapes) {
+  if (m_dispatcher->needsCollision(a->getCollisionObject(), b->getCollisionObject())) {
+    manifold_ = m_dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
+    own_manifold_ = true;
+  }
+}
+
+HedraCollisionAlgorithm::~HedraCollisionAlgorithm() {
+  if (own_manifold_ && manifold_) m_dispatcher->releaseManifold(manifold_);
+}
+
+void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
+                                               const btDispatcherInfo&, btManifoldResult* result) {
+  if (!manifold_) return;
+  result->setPersistentManifold(manifold_);
+  collision::Shape sa, sb;
+  if (!shapes_->get(a->getCollisionShape(), sa) || !shapes_->get(b->getCollisionShape(), sb)) return;
+  collision::ContactSettings settings;
+  settings.contact_distance = manifold_->getContactBreakingThreshold();
+  const collision::ContactResult r =
+      collision::contact(sa, to_pose(a->getWorldTransform()), sb, to_pose(b->getWorldTransform()), &cache_, settings);
+  ++g_queries;
+  for (int k = 0; k < r.count; ++k) {
+    const collision::ContactPoint& p = r.points[k];
+    const Eigen::Vector3d on_b = p.point - 0.5 * p.depth * r.normal;
+    result->addContactPoint(to_bullet(-r.normal), to_bullet(on_b), -p.depth);
+    ++g_points;
+  }
+  if (own_manifold_) result->refreshContactPoints();
+}
+
+long HedraCollisionAlgorithm::queries() { return g_queries.load(); }
+long HedraCollisionAlgorithm::points() { return g_points.load(); }
+
+void register_hedra(btCollisionDispatcher& dispatcher, HedraCollisionAlgorithm::CreateFunc& create,
+                    ShapeCache& shapes) {
+  create.shapes = &shapes;
+  for (const int x : {BOX_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE})
+    for (const int y : {BOX_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE})
+      dispatcher.registerCollisionCreateFunc(x, y, &create);
+}
+
+}  // namespace hedra::simulate

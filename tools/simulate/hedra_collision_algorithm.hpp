@@ -1,0 +1,81 @@
+// hedra's contact manifolds inside Bullet's dynamics: a btCollisionAlgorithm
+// for box and convex-hull shapes that runs hedra::collision::contact() and
+// writes its points into the pair's btPersistentManifold, so that Bullet's
+// own solver (btSequentialImpulseConstraintSolver) stacks bodies on hedra's
+// points. Built against Bullet's double-precision libraries
+// (BT_USE_DOUBLE_PRECISION), like hedra.
+//
+// Conventions converted: Bullet wants the normal on B (from B toward A), the
+// point on B and a signed distance (< 0 penetration); hedra gives the normal
+// from A toward B, the midpoint and the depth (> 0 penetration). Shapes:
+// btBoxShape -> a sharp Box of its outer half extents (with margin, as
+// Bullet's own box-box detector uses them); btConvexHullShape -> a
+// ConvexPolyhedron built once per Bullet shape (scaled points) and cached,
+// rounded by the shape's margin. The speculative contact distance is the
+// manifold's contact-breaking threshold. Each pair keeps its ContactCache.
+#pragma once
+
+#include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <btBulletDynamicsCommon.h>
+
+#include <hedra/collision/manifold.hpp>
+#include <map>
+#include <memory>
+#include <mutex>
+
+namespace hedra::simulate {
+
+// hedra shapes for Bullet shapes, built once per Bullet shape.
+class ShapeCache {
+ public:
+  // False (and `out` untouched) for shapes other than boxes and hulls.
+  bool get(const btCollisionShape* shape, collision::Shape& out);
+
+ private:
+  std::mutex mutex_;
+  std::map<const btCollisionShape*, collision::Shape> shapes_;
+};
+
+class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
+ public:
+  HedraCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* a,
+                          const btCollisionObjectWrapper* b, ShapeCache* shapes);
+  ~HedraCollisionAlgorithm() override;
+
+  void processCollision(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
+                        const btDispatcherInfo& info, btManifoldResult* result) override;
+  btScalar calculateTimeOfImpact(btCollisionObject*, btCollisionObject*, const btDispatcherInfo&,
+                                 btManifoldResult*) override {
+    return btScalar(1);
+  }
+  void getAllContactManifolds(btManifoldArray& manifolds) override {
+    if (manifold_ && own_manifold_) manifolds.push_back(manifold_);
+  }
+
+  struct CreateFunc : public btCollisionAlgorithmCreateFunc {
+    ShapeCache* shapes = nullptr;
+    btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
+                                                   const btCollisionObjectWrapper* a,
+                                                   const btCollisionObjectWrapper* b) override {
+      void* memory = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(HedraCollisionAlgorithm));
+      return new (memory) HedraCollisionAlgorithm(ci, a, b, shapes);
+    }
+  };
+
+  // Queries answered and contact points written, over all pairs (tests).
+  static long queries();
+  static long points();
+
+ private:
+  btPersistentManifold* manifold_ = nullptr;
+  bool own_manifold_ = false;
+  ShapeCache* shapes_;
+  collision::ContactCache cache_;
+};
+
+// Registers hedra for box-box, box-hull, hull-box and hull-hull pairs in
+// `dispatcher`. `create` and `shapes` must outlive the dispatcher.
+void register_hedra(btCollisionDispatcher& dispatcher, HedraCollisionAlgorithm::CreateFunc& create, ShapeCache& shapes);
+
+}  // namespace hedra::simulate
