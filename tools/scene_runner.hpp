@@ -8,10 +8,8 @@
 //   distance    -> collision::distance     (GJK; no EPA)
 //   penetration -> collision::penetration  (GJK, then EPA only when the cores
 //                                           overlap or touch)
-//   contact     -> not available yet: the manifold library (manifold.hpp) is
-//                  being written; run_contact() in scene_runner.cpp is the one
-//                  function to fill in, and until then unavailable_query()
-//                  rejects such scenes before anything runs (no fake answer).
+//   contact     -> collision::contact      (SAT + clipping or the curved
+//                                           paths of manifold.hpp; up to 4 points)
 //
 // Outcomes never hold NaN: a value the query does not define (the distance
 // of an intersect query, the normal of overlapping shapes in a distance
@@ -56,10 +54,6 @@ struct QueryOutcome {
   bool ok() const { return status == "ok"; }
 };
 
-// "<file>: queries[i].type: 'contact' is not available in this build" for
-// the first query this build cannot run; empty when all can run.
-std::string unavailable_query(const Scene& scene);
-
 // Runs query `index` of the built scene `repeat` (>= 1) times, each time
 // from a cold start (no cache), and keeps the last answer and the median time.
 QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat = 1);
@@ -72,7 +66,7 @@ struct LoadedScene {
   BuiltScene built;
 };
 
-// load_scene + unavailable_query + build_shapes; on failure returns nothing
+// load_scene + build_shapes; on failure returns nothing
 // and sets `error` to the message (exit code 2).
 std::optional<LoadedScene> prepare_scene(const std::string& path, std::string& error);
 

@@ -223,13 +223,32 @@ TEST_F(SceneCli, ExpectationsTheQueryCannotAnswer) {
   expect_bad({"check", normal}, {normal + ": queries[0].expect.normal: zero vector"});
 }
 
-TEST_F(SceneCli, ContactIsNotAvailableYet) {
-  const std::string file =
-      write("c.json", scene(kTwoBalls, kTwoBallBodies,
-                            R"([{"a": "p", "b": "q", "type": "distance"}, {"a": "p", "b": "q", "type": "contact"}])"));
-  const RunResult query = expect_bad({"query", file, "--json"}, {});
-  EXPECT_EQ(query.err, file + ": queries[1].type: 'contact' is not available in this build\n");
-  expect_bad({"check", file}, {file + ": queries[1].type: 'contact' is not available in this build"});
+// A box resting 0.01 deep on a larger box: the contact query returns the
+// four corners of the top box's bottom face, each 0.01 deep, and the normal
+// from A (the ground) up toward B.
+TEST_F(SceneCli, ContactReturnsTheFaceManifold) {
+  const std::string file = write(
+      "contact.json",
+      scene(
+          R"({"ground": {"type": "box", "half_extents": [2, 2, 0.5]}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}})",
+          R"({"g": {"shape": "ground"}, "c": {"shape": "crate", "position": [0, 0, 0.99]}})",
+          R"([{"a": "g", "b": "c", "type": "contact", "expect": {"contact_count": 4, "distance": -0.01, "normal": [0, 0, 1]}}])"));
+  const RunResult query = run({"query", file, "--json"});
+  ASSERT_EQ(query.exit_code, 0) << query.err;
+  const nlohmann::json doc = nlohmann::json::parse(query.out);
+  const nlohmann::json& r = doc["results"][0];
+  EXPECT_EQ(r["status"], "ok");
+  EXPECT_TRUE(r["intersecting"].get<bool>());
+  EXPECT_NEAR(r["distance"].get<double>(), -0.01, 1e-12);
+  EXPECT_NEAR(r["normal"][2].get<double>(), 1.0, 1e-12);
+  ASSERT_EQ(r["contacts"].size(), 4u);
+  for (const nlohmann::json& c : r["contacts"]) {
+    EXPECT_NEAR(c["depth"].get<double>(), 0.01, 1e-12);
+    EXPECT_NEAR(std::abs(c["point"][0].get<double>()), 0.5, 1e-9);
+    EXPECT_NEAR(std::abs(c["point"][1].get<double>()), 0.5, 1e-9);
+  }
+  const RunResult check = run({"check", file});
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
 }
 
 TEST_F(SceneCli, OneBadSceneFailsTheWholeCheck) {

@@ -62,10 +62,6 @@ std::optional<ViewModel> build_scene_view_model(const std::string& scene_path, s
     return std::nullopt;
   }
   const Scene& scene = *loaded.scene;
-  if (std::string unavailable = unavailable_query(scene); !unavailable.empty()) {
-    error = unavailable;
-    return std::nullopt;
-  }
   const BuildShapesResult built = build_shapes(scene, /*all_shapes=*/true);
   if (!built.ok()) {
     error = built.error;
