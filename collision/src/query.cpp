@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/query.hpp>
+#include <hedra/collision/revolution.hpp>
 #include <utility>
 
 namespace hedra::collision {
@@ -173,7 +174,13 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
   bool answered = false;
   const double band = settings.touching_band * p.scale;
   if (g.intersecting || g.lower_bound <= band) {
-    const EpaResult e = epa_penetration(p.core_a, placed_b, g.simplex, p.scale, p.relative.translation, settings.epa);
+    // Overlapping cores of revolution with parallel axes: the exact
+    // meridian-section answer (revolution.hpp) where EPA's polytope could
+    // not certify a depth that is the same over a circle of directions.
+    EpaResult e;
+    if (!g.intersecting ||
+        !revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation, settings.epa, e))
+      e = epa_penetration(p.core_a, placed_b, g.simplex, p.scale, p.relative.translation, settings.epa);
     out.epa_iterations = e.iterations;
     // Overlapping cores: EPA's answer, whatever its status. Touching from
     // outside (GJK cannot certify a separation above the band), GJK's answer
