@@ -692,6 +692,11 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
       if (!fg.live || g == best || fg.d > band) continue;
       if (epa_detail::triangle_barycentric(poly.vertex[fg.v[0]].w, poly.vertex[fg.v[1]].w, poly.vertex[fg.v[2]].w,
                                            fg.d * fg.n, lg)) {
+        // Its plane must also be supporting within the tolerance (on a
+        // curved D a face of the band may not have been tested yet): one
+        // support call decides.
+        const Vertex sg = epa_detail::support(a, b, fg.n);
+        if (!epa_detail::finite(sg) || fg.n.dot(sg.w) - fg.d > band - chosen->d) continue;
         chosen = &fg;
         lambda = lg;
         break;
