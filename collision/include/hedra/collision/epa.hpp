@@ -244,6 +244,9 @@ struct Polytope {
   std::array<HorizonEdge, kEpaMaxFaces> horizon;
   std::array<int, kEpaMaxFaces> new_face;     // face created for horizon[i]
   std::array<int, kEpaMaxVertices> starting;  // horizon edge leaving a vertex
+  // face[f].d for live faces, +infinity for removed ones: the nearest-face
+  // scan runs over this contiguous array without testing `live`.
+  std::array<double, kEpaMaxFaces> live_d;
   int vertex_count = 0;
   int face_end = 0;  // slots [0, face_end) have been used
   int free_count = 0;
@@ -285,6 +288,7 @@ struct Polytope {
       face_f.live = true;
       face_f.removed_at = -1;
       if (!plane(vertex[face_f.v[0]].w, vertex[face_f.v[1]].w, vertex[face_f.v[2]].w, face_f.n, face_f.d)) return false;
+      live_d[f] = face_f.d;
     }
     face_end = 4;
     // Each directed edge (p, q) of one face meets (q, p) in exactly one other.
@@ -301,8 +305,8 @@ struct Polytope {
     int best = -1;
     double best_d = std::numeric_limits<double>::infinity();
     for (int f = 0; f < face_end; ++f)
-      if (face[f].live && face[f].d < best_d) {
-        best_d = face[f].d;
+      if (live_d[f] < best_d) {
+        best_d = live_d[f];
         best = f;
       }
     return best;
@@ -365,6 +369,7 @@ struct Polytope {
     // 3. Commit: free the removed faces, add the vertex, fan the new faces.
     for (int k = 0; k < removed_count; ++k) {
       face[removed[k]].live = false;
+      live_d[removed[k]] = std::numeric_limits<double>::infinity();
       free_face[free_count++] = removed[k];
     }
     vertex[wid] = w;
@@ -376,6 +381,7 @@ struct Polytope {
       nf.v = {e.from, e.to, wid};
       nf.n = e.n;
       nf.d = e.d;
+      live_d[id] = e.d;
       nf.live = true;
       nf.removed_at = -1;
       link(nf, 0, id, face[e.kept], e.edge, e.kept);
