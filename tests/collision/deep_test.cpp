@@ -500,3 +500,31 @@ TEST(DeepPenetration, DeepOverlapEveryPair) {
 
 }  // namespace
 }  // namespace hedra::collision
+
+namespace hedra::collision {
+namespace {
+
+// Nearly coaxial cylinders, one inside the other (true depth 0.71 up to the
+// tilt's effect, at most tilt x 0.67): GJK's simplex can pass within 1e-14
+// of the origin and certify only "distance within 1e-14 of 0", which once
+// came out as a touching answer with status ok. Every tilt must give the
+// deep answer: exact (status ok) while the reduction to the meridian plane
+// applies, otherwise EPA's best with an error bound that covers the truth.
+TEST(DeepPenetration, NearlyCoaxialCylindersNeverReportTouching) {
+  const Cylinder a{0.41, 0.53, 0.0}, b{0.3, 0.6, 0.0};
+  for (double tilt : {0.0, 1e-14, 1e-12, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2}) {
+    const Pose pb{Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX()).toRotationMatrix(), Eigen::Vector3d(0, 0, 0.05)};
+    const PenetrationResult r = penetration(a, Pose::identity(), b, pb);
+    ASSERT_TRUE(std::isfinite(r.distance) && r.normal.allFinite()) << tilt;
+    EXPECT_LT(r.distance, -0.7) << tilt;
+    EXPECT_LE(std::abs(r.distance + 0.71), r.error_bound + 0.67 * tilt + 1e-12) << tilt;
+    if (tilt <= 1e-12) {
+      EXPECT_EQ(r.status, Status::ok) << tilt;
+      EXPECT_NEAR(r.distance, -0.71, 1e-12) << tilt;
+    }
+    if (r.status == Status::ok) EXPECT_LE(r.error_bound, 1e-9) << tilt;
+  }
+}
+
+}  // namespace
+}  // namespace hedra::collision
