@@ -376,7 +376,7 @@ void check(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, doubl
   EXPECT_LE(r.distance, upper + tol) << what;
   tally.worst_depth = std::max({tally.worst_depth, lower - r.distance, r.distance - upper});
   if (!is_curved(a) && !is_curved(b) && std::isnan(coaxial_exact)) {
-    Vec n;
+    Vec n = Vec::UnitX();
     // The core difference's nearest facet normal, where unique and the
     // cores overlap (the rounding then keeps it).
     if (unique_reference_normal(core_points(a, pa, {r.normal}, false), core_points(b, pb, {-r.normal}, false),
@@ -522,7 +522,9 @@ TEST(DeepPenetration, NearlyCoaxialCylindersNeverReportTouching) {
       EXPECT_EQ(r.status, Status::ok) << tilt;
       EXPECT_NEAR(r.distance, -0.71, 1e-12) << tilt;
     }
-    if (r.status == Status::ok) EXPECT_LE(r.error_bound, 1e-9) << tilt;
+    if (r.status == Status::ok) {
+      EXPECT_LE(r.error_bound, 1e-9) << tilt;
+    }
   }
 }
 
