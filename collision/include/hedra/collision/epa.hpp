@@ -31,7 +31,9 @@
 // leave the shapes overlapping), within error_bound of the true depth. Where
 // the depth is nearly constant over many directions (a deep near-sphere, a
 // ball centred on a cylinder's axis) the lower bound d creeps up with the
-// polytope's resolution while the support values are already nearly exact.
+// polytope's resolution while the support values are already nearly exact
+// (the query layer answers cores of revolution with parallel axes exactly
+// instead, revolution.hpp; other such pairs keep this honest fallback).
 //
 // Start. EPA begins from the simplex GJK ended with (1 to 4 points whose hull
 // contains the origin, up to GJK's zero threshold). A simplex flatter than
