@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/query.hpp>
+#include <hedra/collision/revolution.hpp>
 #include <utility>
 
 namespace hedra::collision {
@@ -172,16 +173,29 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
   Eigen::Vector3d n = Eigen::Vector3d::Zero(), core_a = g.point_a, core_b = g.point_b;
   bool answered = false;
   const double band = settings.touching_band * p.scale;
-  if (g.intersecting || g.lower_bound <= band) {
-    const EpaResult e = epa_penetration(p.core_a, placed_b, g.simplex, p.scale, p.relative.translation, settings.epa);
+  // GJK's distance is unsigned: with a certified lower bound of 0 it only
+  // says "within error_bound of touching or overlapping", and the shapes may
+  // be deep inside each other (seen: nearly coaxial cylinders, GJK's
+  // triangle through the origin, |v| = 1e-14, true depth 0.71). Then only
+  // the signed answer (EPA's, or the exact one for cores of revolution)
+  // counts, whatever its status, as for overlapping cores.
+  const bool overlap_possible = g.intersecting || !(g.lower_bound > 0.0);
+  if (overlap_possible || g.lower_bound <= band) {
+    // Overlapping cores of revolution with parallel axes: the exact
+    // meridian-section answer (revolution.hpp) where EPA's polytope could
+    // not certify a depth that is the same over a circle of directions.
+    EpaResult e;
+    if (!overlap_possible ||
+        !revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation, settings.epa, e))
+      e = epa_penetration(p.core_a, placed_b, g.simplex, p.scale, p.relative.translation, settings.epa);
     out.epa_iterations = e.iterations;
-    // Overlapping cores: EPA's answer, whatever its status. Touching from
-    // outside (GJK cannot certify a separation above the band), GJK's answer
-    // is valid too: EPA's replaces it when it converged and either GJK's
-    // normal is rounding noise (|v| within the band) or EPA's certified
-    // error is smaller (GJK stalls on curved cores near contact).
+    // Overlap possible: the signed answer, whatever its status. Touching
+    // from outside (GJK certifies a separation, but not above the band),
+    // GJK's answer is valid too: EPA's replaces it when it converged and
+    // either GJK's normal is rounding noise (|v| within the band) or EPA's
+    // certified error is smaller (GJK stalls on curved cores near contact).
     const bool epa_better = e.status == EpaStatus::ok && (g.distance <= band || e.error_bound <= g.error_bound);
-    if (g.intersecting || epa_better) {
+    if (overlap_possible || epa_better) {
       out.status = to_status(e.status);
       if (e.status == EpaStatus::degenerate) return out;
       core_distance = -e.depth;

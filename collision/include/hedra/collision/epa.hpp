@@ -31,7 +31,9 @@
 // leave the shapes overlapping), within error_bound of the true depth. Where
 // the depth is nearly constant over many directions (a deep near-sphere, a
 // ball centred on a cylinder's axis) the lower bound d creeps up with the
-// polytope's resolution while the support values are already nearly exact.
+// polytope's resolution while the support values are already nearly exact
+// (the query layer answers cores of revolution with parallel axes exactly
+// instead, revolution.hpp; other such pairs keep this honest fallback).
 //
 // Start. EPA begins from the simplex GJK ended with (1 to 4 points whose hull
 // contains the origin, up to GJK's zero threshold). A simplex flatter than
@@ -244,6 +246,9 @@ struct Polytope {
   std::array<HorizonEdge, kEpaMaxFaces> horizon;
   std::array<int, kEpaMaxFaces> new_face;     // face created for horizon[i]
   std::array<int, kEpaMaxVertices> starting;  // horizon edge leaving a vertex
+  // face[f].d for live faces, +infinity for removed ones: the nearest-face
+  // scan runs over this contiguous array without testing `live`.
+  std::array<double, kEpaMaxFaces> live_d;
   int vertex_count = 0;
   int face_end = 0;  // slots [0, face_end) have been used
   int free_count = 0;
@@ -285,6 +290,7 @@ struct Polytope {
       face_f.live = true;
       face_f.removed_at = -1;
       if (!plane(vertex[face_f.v[0]].w, vertex[face_f.v[1]].w, vertex[face_f.v[2]].w, face_f.n, face_f.d)) return false;
+      live_d[f] = face_f.d;
     }
     face_end = 4;
     // Each directed edge (p, q) of one face meets (q, p) in exactly one other.
@@ -301,8 +307,8 @@ struct Polytope {
     int best = -1;
     double best_d = std::numeric_limits<double>::infinity();
     for (int f = 0; f < face_end; ++f)
-      if (face[f].live && face[f].d < best_d) {
-        best_d = face[f].d;
+      if (live_d[f] < best_d) {
+        best_d = live_d[f];
         best = f;
       }
     return best;
@@ -365,6 +371,7 @@ struct Polytope {
     // 3. Commit: free the removed faces, add the vertex, fan the new faces.
     for (int k = 0; k < removed_count; ++k) {
       face[removed[k]].live = false;
+      live_d[removed[k]] = std::numeric_limits<double>::infinity();
       free_face[free_count++] = removed[k];
     }
     vertex[wid] = w;
@@ -376,6 +383,7 @@ struct Polytope {
       nf.v = {e.from, e.to, wid};
       nf.n = e.n;
       nf.d = e.d;
+      live_d[id] = e.d;
       nf.live = true;
       nf.removed_at = -1;
       link(nf, 0, id, face[e.kept], e.edge, e.kept);
@@ -692,6 +700,11 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
       if (!fg.live || g == best || fg.d > band) continue;
       if (epa_detail::triangle_barycentric(poly.vertex[fg.v[0]].w, poly.vertex[fg.v[1]].w, poly.vertex[fg.v[2]].w,
                                            fg.d * fg.n, lg)) {
+        // Its plane must also be supporting within the tolerance (on a
+        // curved D a face of the band may not have been tested yet): one
+        // support call decides.
+        const Vertex sg = epa_detail::support(a, b, fg.n);
+        if (!epa_detail::finite(sg) || fg.n.dot(sg.w) - fg.d > band - chosen->d) continue;
         chosen = &fg;
         lambda = lg;
         break;

@@ -25,7 +25,10 @@
 // separated shapes it equals distance() whenever GJK certifies a separation
 // above a thin touching band (1e-9 of the size; inside it EPA may answer
 // better, see PenetrationSettings::touching_band). Overlapping or touching
-// cores: EPA on the cores from GJK's final simplex, and
+// cores, or cores GJK cannot certify to be apart at all (lower bound 0):
+// EPA on the cores from GJK's final simplex (overlapping cores of
+// revolution with parallel axes: the exact meridian-section answer of
+// revolution.hpp instead), and
 //   distance = -(core depth + r_a + r_b),
 //   point_a  = core point_a + r_a n,   point_b = core point_b - r_b n.
 // Either way point_b - point_a = distance * normal.
