@@ -451,15 +451,15 @@ inline EpaResult flat_result(const std::array<Vertex, 4>& p, int k, const Eigen:
   if (q.norm() > noise) toward = -q;
   Eigen::Vector3d n = Eigen::Vector3d::UnitX();
   if (k == 1) {
-    if (toward.squaredNorm() > 0.0) n = toward.normalized();
+    if (toward.squaredNorm() > 0.0) n = toward.stableNormalized();
   } else if (k == 2) {
-    const Eigen::Vector3d e = (p[1].w - p[0].w).normalized();
+    const Eigen::Vector3d e = (p[1].w - p[0].w).stableNormalized();
     const Eigen::Vector3d perp = toward - toward.dot(e) * e;
     // Why the threshold: a direction (nearly) along the segment leaves only
     // rounding as its perpendicular part.
-    n = perp.norm() > 1e-6 * toward.norm() ? Eigen::Vector3d(perp.normalized()) : e.unitOrthogonal();
+    n = perp.norm() > 1e-6 * toward.norm() ? Eigen::Vector3d(perp.stableNormalized()) : e.unitOrthogonal();
   } else {
-    n = orient_normal(area_vector(p[0].w, p[1].w, p[2].w).normalized(), toward);
+    n = orient_normal(area_vector(p[0].w, p[1].w, p[2].w).stableNormalized(), toward);
   }
   r.normal = n;
   r.depth = n.dot(q);
@@ -593,15 +593,15 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
         dirs[count++] = -Eigen::Vector3d::Unit(axis);
       }
     } else if (k == 2) {
-      const Eigen::Vector3d e = (p[1].w - p[0].w).normalized();
+      const Eigen::Vector3d e = (p[1].w - p[0].w).stableNormalized();
       const Eigen::Vector3d u = e.unitOrthogonal(), v = e.cross(u);
       for (const Eigen::Vector3d& d :
-           {u, v, Eigen::Vector3d((u + v).normalized()), Eigen::Vector3d((u - v).normalized())}) {
+           {u, v, Eigen::Vector3d((u + v).stableNormalized()), Eigen::Vector3d((u - v).stableNormalized())}) {
         dirs[count++] = d;
         dirs[count++] = -d;
       }
     } else {
-      const Eigen::Vector3d n = epa_detail::area_vector(p[0].w, p[1].w, p[2].w).normalized();
+      const Eigen::Vector3d n = epa_detail::area_vector(p[0].w, p[1].w, p[2].w).stableNormalized();
       dirs[count++] = n;
       dirs[count++] = -n;
     }

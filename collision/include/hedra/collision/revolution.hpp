@@ -143,7 +143,7 @@ bool revolution_penetration(const CA& core_a, const CB& core_b, const RelativePo
   if (!(rho0 > noise)) e = preferred - preferred.dot(k) * k;
   e -= e.dot(k) * k;
   if (!(e.norm() > 1e-3 * (rho0 > noise ? 1.0 : preferred.norm())) || !e.allFinite()) e = k.unitOrthogonal();
-  e.normalize();
+  e.stableNormalize();
   const Eigen::Vector2d q(rho0 > noise ? rho0 : 0.0, z0);
 
   // D's section: the convex hull of all sums (Andrew's monotone chain over
