@@ -1,11 +1,13 @@
-// hedra's intersect / distance / penetration on every query of the
+// hedra's intersect / distance / penetration / contact on every query of the
 // regression scenes (tools/scenes/scene_catalog.cpp), against the
 // expectations the scene files carry (computed here the same way, from the
 // exact reference), without going through JSON: one test per scene.
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <map>
 #include <scene_catalog.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -73,20 +75,50 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SceneTest, ::testing::Range<std::size_t>(0, cat
 // The catalog covers what the scenes are for: at least 40 scenes, every
 // query type, both outcomes, and every pair of shape types.
 TEST(SceneCatalog, Coverage) {
-  int intersect = 0, distance = 0, penetration = 0;
+  int intersect = 0, distance = 0, penetration = 0, contact = 0;
   for (const SceneSpec& s : catalog())
     for (const QuerySpec& q : s.queries) {
       intersect += q.type == "intersect";
       distance += q.type == "distance";
       penetration += q.type == "penetration";
+      contact += q.type == "contact";
     }
   EXPECT_GE(catalog().size(), 40u);
   EXPECT_GT(intersect, 20);
   EXPECT_GT(distance, 20);
   EXPECT_GT(penetration, 20);
+  EXPECT_GT(contact, 20);
   int pairs = 0;
   for (const SceneSpec& s : catalog()) pairs += s.family == "pairs";
   EXPECT_EQ(pairs, 28);  // 7 shape kinds, every unordered pair including equal kinds
+}
+
+// The manifold family: only contact queries, each with the point count the
+// geometry determines, covering 0 (separated), 1 (sphere, vertex, edge-edge),
+// 2 (a capsule or a side line lying on a face) and 4 (a face or cap disc on a
+// larger face), and every curved kind resting on a polytope.
+TEST(SceneCatalog, ManifoldFamily) {
+  std::map<int, int> by_count;
+  std::set<std::string> kinds;
+  int scenes = 0;
+  for (const SceneSpec& s : catalog()) {
+    if (s.family != "manifold") continue;
+    ++scenes;
+    for (const QuerySpec& q : s.queries) {
+      SCOPED_TRACE(s.name + " " + q.a + "-" + q.b);
+      EXPECT_EQ(q.type, "contact");
+      ASSERT_TRUE(q.contact_count.has_value());
+      ++by_count[*q.contact_count];
+      if (*q.contact_count > 0) {
+        kinds.insert(s.shape(s.body(q.a).shape).type);
+        kinds.insert(s.shape(s.body(q.b).shape).type);
+      }
+    }
+  }
+  EXPECT_GE(scenes, 9);
+  for (int count : {0, 1, 2, 4}) EXPECT_GE(by_count[count], 3) << count << " points";
+  for (const char* kind : {"box", "hull", "sphere", "capsule", "cylinder", "cone"})
+    EXPECT_TRUE(kinds.count(kind)) << kind;
 }
 
 }  // namespace

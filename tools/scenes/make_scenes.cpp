@@ -106,6 +106,7 @@ std::string scene_text(const SceneSpec& scene, Counts& counts, bool verify) {
     if (e.intersecting) ex["intersecting"] = *e.intersecting;
     if (e.distance) ex["distance"] = clean(*e.distance);
     if (e.normal) ex["normal"] = vec(*e.normal);
+    if (e.contact_count) ex["contact_count"] = *e.contact_count;
     if (e.distance) ex["tolerance"] = e.tolerance;
     if (e.normal) ex["angle_tolerance"] = e.angle_tolerance;
     queries.push_back({{"a", q.a}, {"b", q.b}, {"type", q.type}, {"expect", ex}});

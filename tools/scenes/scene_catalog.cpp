@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
 #include <hedra/hull/mesh_io.hpp>
 #include <map>
@@ -244,7 +245,13 @@ struct Builder {
     return *this;
   }
   Builder& query(const std::string& a, const std::string& b, const std::string& type) {
-    scene.queries.push_back({a, b, type});
+    scene.queries.push_back({a, b, type, std::nullopt});
+    return *this;
+  }
+  // A contact query; `count`: the number of points the geometry determines
+  // (negative: not expected).
+  Builder& contact(const std::string& a, const std::string& b, int count) {
+    scene.queries.push_back({a, b, "contact", count >= 0 ? std::optional<int>(count) : std::nullopt});
     return *this;
   }
   // distance and penetration (and intersect when `with_intersect`).
@@ -453,6 +460,188 @@ void curved_contact(std::vector<SceneSpec>& out) {
     b.body("cone", "tip", Vec(0, 5, 0));
     b.body("ball", "ball", Vec(0, 5, 0) + foot + (0.2 - d) * outward);
     b.all("c1", "c_apart").all("c1", "c_deep").all("c1", "rod_cross").all("c1", "tip").all("cone", "ball");
+    out.push_back(b.scene);
+  }
+}
+
+// Contact manifolds (`contact` queries): resting stacks, edge-edge
+// crossings, a tilted slab, capsule / cylinder / cone / sphere on a box,
+// hull on hull, and separated pairs (no points with the tool's contact
+// distance 0). Every resting pair is sunk by a fixed depth, so the deepest
+// point's depth and the signed distance are that depth (the exact
+// reference's); contact_count is given where the geometry determines it.
+void manifold(std::vector<SceneSpec>& out, const std::map<std::string, const Mesh*>& mesh) {
+  const double d = 1e-3;  // resting depth
+  {
+    Builder b("manifold", "box_stack",
+              "A resting stack on a ground slab (half 5 x 5 x 0.5, top at z = 0): cubes of half 0.5, 0.35 and 0.2 "
+              "turned 0, 20 and 45 deg about z, each sunk 1e-3 into the one below and inside its top face: four "
+              "points each (also with A and B swapped), normal +z; the ground and the upper cubes are separated "
+              "(no points).");
+    b.shape(box("ground", Vec(5, 5, 0.5)))
+        .shape(box("big", Vec(0.5, 0.5, 0.5)))
+        .shape(box("mid", Vec(0.35, 0.35, 0.35)))
+        .shape(box("small", Vec(0.2, 0.2, 0.2)));
+    const double z1 = 0.5 - d, z2 = 2 * 0.5 - d + 0.35 - d, z3 = 2 * 0.5 + 2 * 0.35 - 2 * d + 0.2 - d;
+    b.body("ground", "ground", Vec(0, 0, -0.5));
+    b.body("c1", "big", Vec(0, 0, z1));
+    b.body("c2", "mid", Vec(0.03, 0.02, z2), quat(20 * kPi / 180, Vec::UnitZ()));
+    b.body("c3", "small", Vec(0.0, 0.04, z3), quat(45 * kPi / 180, Vec::UnitZ()));
+    b.contact("ground", "c1", 4).contact("c1", "c2", 4).contact("c2", "c3", 4).contact("c3", "c2", 4);
+    b.contact("ground", "c3", 0).contact("c1", "c3", 0);
+    out.push_back(b.scene);
+  }
+  {
+    // The unit cube turned 45 deg about x: its top edge runs along x at
+    // z = sqrt(1/2). A cube of half 0.3 turned 45 deg about y has its bottom
+    // edge along y, 0.3 sqrt 2 below its centre; turned further about z the
+    // edge stays horizontal and crosses x at another angle.
+    const double top = std::sqrt(0.5), below = 0.3 * std::sqrt(2.0);
+    const Eigen::Vector4d along_y = quat(kPi / 4, Vec::UnitY());
+    Builder b("manifold", "edge_edge",
+              "Edge on edge: the unit cube turned 45 deg about x (top edge along x) and cubes of half 0.3 turned 45 "
+              "deg about y (bottom edge horizontal), crossing it at 90 deg 1e-3 deep, at 60 deg 2e-3 deep (one point "
+              "each, normal +z), and at 45 deg 1e-2 above it (separated, no points).");
+    b.shape(box("base", Vec(0.5, 0.5, 0.5))).shape(box("block", Vec(0.3, 0.3, 0.3)));
+    b.body("base", "base", Vec::Zero(), quat(kPi / 4, Vec::UnitX()));
+    b.body("square", "block", Vec(0.1, 0.0, top + below - d), along_y);
+    b.body("skew", "block", Vec(-0.2, 0.05, top + below - 2 * d), quat_mul(quat(kPi / 6, Vec::UnitZ()), along_y));
+    b.body("above", "block", Vec(0.3, -0.05, top + below + 1e-2), quat_mul(quat(kPi / 4, Vec::UnitZ()), along_y));
+    b.contact("base", "square", 1).contact("base", "skew", 1).contact("skew", "base", 1);
+    b.contact("base", "above", 0);
+    out.push_back(b.scene);
+  }
+  {
+    const Eigen::Vector4d tilt = quat(15 * kPi / 180, Vec(std::cos(0.4), std::sin(0.4), 0));
+    const Eigen::Quaterniond r(tilt[0], tilt[1], tilt[2], tilt[3]);
+    Builder b("manifold", "tilted_slab",
+              "Boxes on a slab (half 2 x 1.5 x 0.1) tilted 15 deg: a box (half 0.3 x 0.2 x 0.25) and a cube (half "
+              "0.15) lying on its top face, turned in its plane, sunk 1e-3 along its normal (four points each, also "
+              "with A and B swapped; normal the slab's), and a cube 1e-2 above it (separated, no points).");
+    b.shape(box("slab", Vec(2, 1.5, 0.1)))
+        .shape(box("block", Vec(0.3, 0.2, 0.25)))
+        .shape(box("cube", Vec::Constant(0.15)));
+    b.body("slab", "slab", Vec::Zero(), tilt);
+    b.body("block", "block", r * Vec(0.4, -0.3, 0.1 + 0.25 - d), quat_mul(tilt, quat(0.6, Vec::UnitZ())));
+    b.body("cube", "cube", r * Vec(-0.8, 0.5, 0.1 + 0.15 - d), quat_mul(tilt, quat(1.2, Vec::UnitZ())));
+    b.body("hover", "cube", r * Vec(1.2, 0.6, 0.1 + 0.15 + 1e-2), quat_mul(tilt, quat(-0.4, Vec::UnitZ())));
+    b.contact("slab", "block", 4).contact("cube", "slab", 4).contact("slab", "hover", 0);
+    out.push_back(b.scene);
+  }
+  {
+    const auto lying = [](double heading) { return quat(kPi / 2, Vec(std::cos(heading), std::sin(heading), 0)); };
+    Builder b("manifold", "capsule_on_box",
+              "Capsules (radius 0.1, half length 0.4) on a box (half 1 x 0.8 x 0.5, top at z = 0), sunk 1e-3: lying "
+              "flat (two points, the segment's ends; also with A and B swapped), upright and tilted 30 deg (one "
+              "point), and lying flat 1e-2 above (separated, no points). Normal +z.");
+    b.shape(box("table", Vec(1, 0.8, 0.5))).shape(capsule("pill", 0.1, 0.4));
+    b.body("table", "table", Vec(0, 0, -0.5));
+    b.body("flat", "pill", Vec(0.2, -0.1, 0.1 - d), lying(0.5));
+    b.body("flat_2", "pill", Vec(-0.4, 0.3, 0.1 - d), lying(2.0));
+    b.body("upright", "pill", Vec(0.5, 0.4, 0.5 - d));
+    b.body("tilted", "pill", Vec(-0.5, -0.4, 0.4 * std::cos(kPi / 6) + 0.1 - d), quat(kPi / 6, Vec::UnitX()));
+    b.body("above", "pill", Vec(0.1, 0.5, 0.1 + 1e-2), lying(-0.3));
+    b.contact("table", "flat", 2).contact("flat_2", "table", 2).contact("table", "upright", 1);
+    b.contact("table", "tilted", 1).contact("table", "above", 0);
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("manifold", "cylinder_on_box",
+              "Cylinders (radius 0.3, half length 0.4) on a box (half 2 x 2 x 0.5, top at z = 0), sunk 1e-3: standing "
+              "on the cap at -h, and upside down on the cap at +h (cap disc inside the face: four points; also with "
+              "A and B swapped), on its side (a line contact: two points), and standing 1e-2 above (separated, no "
+              "points).");
+    b.shape(box("floor", Vec(2, 2, 0.5))).shape(cylinder("can", 0.3, 0.4));
+    b.body("floor", "floor", Vec(0, 0, -0.5));
+    b.body("up", "can", Vec(0.3, -0.2, 0.4 - d), quat(0.7, Vec::UnitZ()));
+    b.body("down", "can", Vec(-0.8, 0.6, 0.4 - d), quat(kPi, Vec::UnitX()));
+    b.body("side", "can", Vec(0.9, 0.9, 0.3 - d), quat(kPi / 2, Vec(std::cos(0.4), std::sin(0.4), 0)));
+    b.body("above", "can", Vec(-0.9, -0.9, 0.4 + 1e-2));
+    b.contact("floor", "up", 4).contact("floor", "down", 4).contact("up", "floor", 4);
+    b.contact("floor", "side", 2).contact("floor", "above", 0);
+    out.push_back(b.scene);
+  }
+  {
+    // Tilted by beta = pi/2 + alpha about a horizontal axis (alpha =
+    // atan(r / 2h), the half angle; the axis now points down by alpha), one
+    // straight line of the side (base rim to apex) is horizontal and lowest,
+    // at the apex's height: the centre's + h cos(beta).
+    const double r = 0.35, h = 0.45;
+    const double beta = kPi / 2 + std::atan2(r, 2 * h);
+    Builder b("manifold", "cone_on_box",
+              "Cones (radius 0.35, half length 0.45) on a box (half 2 x 2 x 0.5, top at z = 0), sunk 1e-3: standing "
+              "on the base disc (inside the face: four points; also with A and B swapped), lying on its side (tilted "
+              "pi/2 + atan(r / 2h), apex down, so that a line from the rim to the apex is lowest: two points), and on "
+              "its base 1e-2 above (separated, no points).");
+    b.shape(box("floor", Vec(2, 2, 0.5))).shape(cone("tip", r, h));
+    b.body("floor", "floor", Vec(0, 0, -0.5));
+    b.body("base", "tip", Vec(0.2, 0.3, h - d), quat(0.2, Vec::UnitZ()));
+    b.body("base_2", "tip", Vec(-0.7, -0.6, h - d), quat(1.1, Vec::UnitZ()));
+    b.body("side", "tip", Vec(0.9, -0.8, -d - h * std::cos(beta)), quat(beta, Vec(std::cos(0.7), std::sin(0.7), 0)));
+    b.body("above", "tip", Vec(-0.8, 0.9, h + 1e-2));
+    b.contact("floor", "base", 4).contact("base_2", "floor", 4).contact("floor", "side", 2);
+    b.contact("floor", "above", 0);
+    out.push_back(b.scene);
+  }
+  {
+    const double r = 0.25;
+    Builder b("manifold", "sphere_on_box",
+              "Spheres (radius 0.25) 1e-3 into a box (half 0.6 x 0.6 x 0.3, top at z = 0): on the top face (normal "
+              "+z; also with A and B swapped), on the top +x edge (normal (1, 0, 1) / sqrt 2), on the top corner "
+              "(normal (1, 1, 1) / sqrt 3): one point each; and 1e-2 above the face (separated, no points).");
+    b.shape(box("block", Vec(0.6, 0.6, 0.3))).shape(sphere("ball", r));
+    b.body("block", "block", Vec(0, 0, -0.3));
+    b.body("face", "ball", Vec(0.1, -0.2, r - d));
+    b.body("edge", "ball", Vec(0.6, 0.1, 0) + (r - d) * Vec(1, 0, 1).normalized());
+    b.body("corner", "ball", Vec(0.6, 0.6, 0) + (r - d) * Vec(1, 1, 1).normalized());
+    b.body("above", "ball", Vec(-0.3, 0.3, r + 1e-2));
+    b.contact("block", "face", 1).contact("face", "block", 1).contact("block", "edge", 1);
+    b.contact("block", "corner", 1).contact("block", "above", 0);
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("manifold", "hull_hull",
+              "Hull on hull: two gems from meshes/gem.obj table to table (the upper one upside down, turned 0.3 rad "
+              "about z and shifted, 1e-3 deep: the overlap of two octagons, four points, normal +z); a seeded blob "
+              "(its lowest point the -z axis point) resting 1e-3 deep on a hull box (one point), and the same blob "
+              "1e-2 above it (separated, no points).");
+    b.shape(mesh_hull("gem", *mesh.at("gem")))
+        .shape(hull("slab", box_points(Vec(0.6, 0.6, 0.2))))
+        .shape(hull("blob", blob_points(21, 14, Vec(0.4, 0.35, 0.3))));
+    b.body("g1", "gem", Vec::Zero());
+    b.body("g2", "gem", Vec(0.05, -0.03, 0.7 - d), quat_mul(quat(0.3, Vec::UnitZ()), quat(kPi, Vec::UnitX())));
+    b.body("slab", "slab", Vec(5, 0, -0.2));
+    b.body("blob", "blob", Vec(5.1, 0.05, 0.3 - d));
+    b.body("blob_above", "blob", Vec(4.8, -0.1, 0.3 + 1e-2));
+    b.contact("g1", "g2", 4).contact("g2", "g1", 4).contact("slab", "blob", 1).contact("slab", "blob_above", 0);
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("manifold", "separated",
+              "Separated pairs (no contact points with the tool's contact distance 0): boxes face to face 1e-2 apart "
+              "and in generic orientations, a seeded hull and a box, gems, and pairs with a curved shape (sphere, "
+              "capsule, cylinder, cone), whose distance comes from GJK and is expected; between polytopes only the "
+              "outcome is (the SAT separation is a lower bound on the distance).");
+    b.shape(box("crate", Vec(0.5, 0.4, 0.3)))
+        .shape(hull("pebble", blob_points(23, 14, Vec(0.4, 0.3, 0.35))))
+        .shape(mesh_hull("gem", *mesh.at("gem")))
+        .shape(sphere("ball", 0.3))
+        .shape(capsule("pill", 0.15, 0.4))
+        .shape(cylinder("can", 0.3, 0.35))
+        .shape(cone("tip", 0.3, 0.4));
+    b.body("c1", "crate", Vec::Zero());
+    b.body("c_face", "crate", Vec(0.2, -0.1, 0.6 + 1e-2));
+    b.body("c_generic", "crate", Vec(1.3, 0.2, -0.4), quat(0.9, Vec(1, 2, 3)));
+    b.body("pebble", "pebble", Vec(-0.4, -1.0, 0.1), quat(0.6, Vec(2, -1, 1)));
+    b.body("g1", "gem", Vec(4, 0, 0));
+    b.body("g2", "gem", Vec(4, 0, 0) + Vec(0.3, 2.1, 0.2), quat(0.8, Vec(1, 1, 0)));
+    b.body("ball", "ball", Vec(-1.0, 0.3, 0.2));
+    b.body("pill", "pill", Vec(0.1, 1.0, 0.5), quat(1.0, Vec(1, 0, 0)));
+    b.body("can", "can", Vec(0.2, 0.3, -0.9), quat(0.5, Vec(0, 1, 0)));
+    b.body("tip", "tip", Vec(-1.2, 1.3, 0.0), quat(2.0, Vec(1, 1, 1)));
+    b.contact("c1", "c_face", 0).contact("c1", "c_generic", 0).contact("c1", "pebble", 0).contact("g1", "g2", 0);
+    b.contact("c1", "ball", 0).contact("c1", "pill", 0).contact("can", "c1", 0).contact("c1", "tip", 0);
+    b.contact("ball", "pill", 0).contact("tip", "can", 0).contact("pebble", "ball", 0);
     out.push_back(b.scene);
   }
 }
@@ -718,6 +907,7 @@ std::vector<SceneSpec> make_scenes(const std::vector<Mesh>& meshes) {
   pairs(out);
   contact(out);
   curved_contact(out);
+  manifold(out, by_name);
   parallel(out);
   extreme(out);
   large(out, by_name);
@@ -778,10 +968,22 @@ Expectation expect(const SceneSpec& scene, const QuerySpec& query) {
   } else if (query.type == "penetration") {
     e.distance = sd;
     if (e.exact.normal_unique) e.normal = e.exact.normal;
+  } else if (query.type == "contact") {
+    // A separated polytope pair answers with its SAT separation, a lower
+    // bound on the distance: nothing to expect of it but the outcome.
+    const bool polytopes =
+        (spec_a.type == "box" || spec_a.type == "hull") && (spec_b.type == "box" || spec_b.type == "hull");
+    if (!(polytopes && sd > e.tolerance)) {
+      e.distance = sd;
+      if (e.exact.normal_unique) e.normal = e.exact.normal;
+    }
+    e.contact_count = query.contact_count;
   } else if (query.type != "intersect") {
     throw std::runtime_error(scene.name + ": unsupported query type " + query.type);
   }
-  if (!e.intersecting && !e.distance)
+  if (query.contact_count && query.type != "contact")
+    throw std::runtime_error(scene.name + ": contact_count on a " + query.type + " query");
+  if (!e.intersecting && !e.distance && !e.contact_count)
     throw std::runtime_error(scene.name + ": " + query.a + "-" + query.b + " " + query.type +
                              ": touching within the tolerance, nothing to expect");
   return e;
@@ -798,6 +1000,8 @@ std::string check_hedra(const SceneSpec& scene, const QuerySpec& query, const Ex
   std::optional<double> distance;
   std::optional<Vec> normal;
   std::string status;
+  std::optional<int> count;
+  std::optional<double> deepest;  // the largest point depth
   if (query.type == "intersect") {
     const collision::IntersectResult r = collision::intersect(a, pose_a, b, pose_b);
     status = collision::to_string(r.status);
@@ -808,12 +1012,23 @@ std::string check_hedra(const SceneSpec& scene, const QuerySpec& query, const Ex
     intersecting = r.intersecting;
     distance = r.distance;
     if (!r.intersecting) normal = r.normal;
-  } else {
+  } else if (query.type == "penetration") {
     const collision::PenetrationResult r = collision::penetration(a, pose_a, b, pose_b);
     status = collision::to_string(r.status);
     intersecting = r.intersecting;
     distance = r.distance;
     normal = r.normal;
+  } else {
+    const collision::ContactResult r = collision::contact(a, pose_a, b, pose_b);
+    status = collision::to_string(r.status);
+    intersecting = r.intersecting;
+    distance = r.distance;
+    normal = r.normal;
+    count = r.count;
+    for (int k = 0; k < r.count; ++k) {
+      const double depth = r.points[static_cast<std::size_t>(k)].depth;
+      if (!deepest || !(depth <= *deepest)) deepest = depth;  // NaN wins, and fails below
+    }
   }
   if (status != "ok") add("status " + status);
   if (e.intersecting && intersecting != *e.intersecting)
@@ -830,6 +1045,15 @@ std::string check_hedra(const SceneSpec& scene, const QuerySpec& query, const Ex
     if (!(angle <= e.angle_tolerance))
       add("normal angle " + fmt(angle) + " > " + fmt(e.angle_tolerance) + " rad" +
           (normal ? " (got [" + fmt(normal->x()) + ", " + fmt(normal->y()) + ", " + fmt(normal->z()) + "])" : ""));
+  }
+  if (e.contact_count && count != e.contact_count)
+    add("contact_count " + (count ? std::to_string(*count) : std::string("none")) + " (expected " +
+        std::to_string(*e.contact_count) + ")");
+  if (e.distance && deepest) {
+    const double error = std::abs(*deepest + *e.distance);
+    if (!(error <= e.tolerance))
+      add("deepest point depth " + fmt(*deepest) + " (expected " + fmt(-*e.distance) + ", error " + fmt(error) + " > " +
+          fmt(e.tolerance) + ")");
   }
   return problems;
 }

@@ -21,7 +21,16 @@
 //                 facet within tol, or separated by more than tol; never for
 //                 cylinders and cones, whose normal it does not certify);
 //                 distance: only when separated by more than tol;
-//                 angle_tolerance 1e-6 rad.
+//                 angle_tolerance 1e-6 rad;
+//   contact       as penetration (the signed distance, the normal when
+//                 unique), except for a pair of polytopes (boxes, hulls)
+//                 separated by more than tol: there contact()'s SAT
+//                 separation is only a lower bound on the distance
+//                 (manifold.hpp), so neither distance nor normal is
+//                 expected; plus `contact_count` when the scene gives it
+//                 (the catalog's author: the count the geometry determines,
+//                 e.g. 4 for a box face inside a larger face, 0 when
+//                 separated, with the tool's contact distance 0).
 // The catalog refuses a query whose expectation would be empty.
 #pragma once
 
@@ -63,7 +72,8 @@ struct BodySpec {
 
 struct QuerySpec {
   std::string a, b;
-  std::string type;  // intersect, distance, penetration
+  std::string type;                  // intersect, distance, penetration, contact
+  std::optional<int> contact_count;  // contact: the number of points the geometry determines
 };
 
 struct SceneSpec {
@@ -82,6 +92,7 @@ struct Expectation {
   std::optional<bool> intersecting;
   std::optional<double> distance;
   std::optional<Eigen::Vector3d> normal;
+  std::optional<int> contact_count;
   double tolerance = 0.0;
   double angle_tolerance = 0.0;
   reference::ExactResult exact;  // what the expectation came from
@@ -104,7 +115,10 @@ double pair_size(const collision::Shape& a, const collision::Pose& pose_a, const
 Expectation expect(const SceneSpec& scene, const QuerySpec& query);
 
 // Runs the query through hedra::collision and compares it with `e`; returns
-// an empty string when it agrees, otherwise what differs.
+// an empty string when it agrees, otherwise what differs. A contact query
+// (collision::contact(), default settings as in `hedra check`) also compares
+// its point count and, when a distance is expected and points were found,
+// the deepest point's depth with -distance (same tolerance).
 std::string check_hedra(const SceneSpec& scene, const QuerySpec& query, const Expectation& e);
 
 }  // namespace hedra::scenes
