@@ -17,7 +17,7 @@
 //   error_median, error_max  |signed distance - exact reference| over the
 //       pairs the method answered with a distance. The reference (polytope
 //       families) is the signed distance from the origin to qhull's hull of
-//       the Minkowski difference {a_i - b_j} (tests/reference), independent of
+//       the Minkowski difference {a_i - b_j} (tools/reference), independent of
 //       hedra's GJK/EPA. The rounded family has no reference here: no counter.
 //   answered   pairs answered with a distance (libccd has no distance for
 //       separated pairs: it only says "separated")

@@ -1,4 +1,4 @@
-// hedra's quickhull against qhull (libqhull_r, through tests/reference) on the
+// hedra's quickhull against qhull (libqhull_r, through tools/reference) on the
 // same point sets, side by side in one run:
 //   ball/N      uniform in the unit ball, N = 1e3, 1e5, 1e6
 //   sphere/N    on the unit sphere (every point is a vertex), N = 1e4, 1e5

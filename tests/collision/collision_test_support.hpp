@@ -1,8 +1,8 @@
 // Helpers shared by the collision tests: hull construction, seeded random
 // points and directions, world-frame vertices, support values of posed shapes
 // (for optimality checks of witness points and normals), point/segment/
-// triangle distances, and the exact reference distance from the origin to the
-// Minkowski difference hull (qhull, independent of GJK/EPA).
+// triangle distances, and the exact reference distance between point sets
+// (tools/reference, independent of GJK/EPA).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <exact_reference.hpp>
 #include <hedra/collision/minkowski.hpp>
 #include <hedra/collision/shapes.hpp>
 #include <hedra/collision/support.hpp>
@@ -84,24 +85,13 @@ inline double point_triangle_distance(const Vec& p, const Vec& a, const Vec& b, 
   return best;
 }
 
-// Distance from the origin to conv{a_i - b_j} (world points), via qhull.
+// Distance between the convex hulls of two world point sets (0 when they
+// overlap): the exact reference (tools/reference/exact_reference.hpp, the
+// origin against qhull's hull of {a_i - b_j}).
 inline double reference_distance(const std::vector<Vec>& a, const std::vector<Vec>& b) {
-  std::vector<Vec> diff;
-  for (const Vec& p : a)
-    for (const Vec& q : b) diff.push_back(p - q);
-  const reference::QhullHull h = reference::qhull_hull(diff, "Qt");
-  EXPECT_TRUE(h.ok) << h.messages;
-  bool outside = false;
-  double best = INFINITY;
-  for (const auto& t : h.triangles) {
-    const Vec& p0 = diff[t[0]];
-    const Vec& p1 = diff[t[1]];
-    const Vec& p2 = diff[t[2]];
-    const Vec n = (p1 - p0).cross(p2 - p0);
-    if (n.dot(-p0) > 0.0) outside = true;  // the origin is in front of this facet
-    best = std::min(best, point_triangle_distance(Vec::Zero(), p0, p1, p2));
-  }
-  return outside ? best : 0.0;
+  const reference::ExactResult r = reference::exact_signed_distance(a, b);
+  EXPECT_TRUE(r.ok) << r.reason;
+  return std::max(0.0, r.distance);
 }
 
 // Segment-segment distance: the minimum of the convex quadratic

@@ -31,6 +31,10 @@ struct QhullHull {
 
   std::vector<int> vertices;                  // input indices of the hull vertices, sorted ascending
   std::vector<std::array<int, 3>> triangles;  // counter-clockwise seen from outside (input indices)
+  // The plane of each triangle's qhull facet: (n, offset) with n the outward
+  // unit normal and n . x + offset = 0 on the facet (qhull's facet->normal
+  // and facet->offset; the triangles of one merged facet share its plane).
+  std::vector<Eigen::Vector4d> triangle_planes;
   // qhull's facets as polygons (input indices, counter-clockwise seen from
   // outside): triangles under "Qt", merged convex polygons without it.
   std::vector<std::vector<int>> facets;

@@ -115,8 +115,10 @@ void read_hull(qhT* qh, const std::vector<Eigen::Vector3d>& points, QhullHull& o
     FOREACHvertex_(facet->vertices) { polygon.push_back(qh_pointid(qh, vertex->point)); }
     const Eigen::Vector3d normal(facet->normal[0], facet->normal[1], facet->normal[2]);
     sort_around_normal(polygon, points, normal);
-    for (std::size_t k = 1; k + 1 < polygon.size(); ++k)
+    for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
       out.triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
+      out.triangle_planes.emplace_back(normal.x(), normal.y(), normal.z(), facet->offset);
+    }
     out.facets.push_back(std::move(polygon));
     if (facet->coplanarset) out.coplanar_points += static_cast<std::size_t>(qh_setsize(qh, facet->coplanarset));
     if (facet->tricoplanar) ++out.tricoplanar_facets;
@@ -175,6 +177,7 @@ QhullHull qhull_hull(const std::vector<Eigen::Vector3d>& points, const char* opt
   if (!out.ok) {
     out.vertices.clear();
     out.triangles.clear();
+    out.triangle_planes.clear();
     out.facets.clear();
   }
   return out;

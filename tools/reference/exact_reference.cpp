@@ -1,0 +1,593 @@
+// The exact reference: see exact_reference.hpp for the method. Nothing here
+// calls hedra's GJK, EPA or support mappings; the support functions of the
+// cores are written out below from the shapes' definitions.
+#include "exact_reference.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <qhull_reference.hpp>
+#include <utility>
+#include <variant>
+
+namespace hedra::reference {
+namespace {
+
+using Vec = Eigen::Vector3d;
+using collision::Pose;
+using collision::Shape;
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kUniqueAngle = 1e-8;  // candidate normals closer than this are one normal
+
+// A shape's core placed in the pair's recentred frame: its points, its radius
+// and (for the bounds) its exact support function.
+struct Core {
+  enum class Kind { points, segment, box, cylinder, cone } kind = Kind::points;
+  std::vector<Vec> points;  // recentred world frame
+  double radius = 0.0;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Vec translation = Vec::Zero();  // recentred
+  Vec half_extents = Vec::Zero();
+  double half_length = 0.0;
+  double core_radius = 0.0;  // cylinder / cone radius
+
+  bool curved() const { return kind == Kind::cylinder || kind == Kind::cone; }
+
+  // h(n) = max over the true core of n . x.
+  double support_value(const Vec& n) const {
+    const Vec d = rotation.transpose() * n;
+    const double rho = std::hypot(d.x(), d.y());
+    double local = 0.0;
+    switch (kind) {
+      case Kind::points: {
+        double best = -std::numeric_limits<double>::infinity();
+        for (const Vec& p : points) best = std::max(best, n.dot(p));
+        return best;
+      }
+      case Kind::segment:
+        local = half_length * std::abs(d.z());
+        break;
+      case Kind::box:
+        local = half_extents.cwiseProduct(d.cwiseAbs()).sum();
+        break;
+      case Kind::cylinder:
+        local = core_radius * rho + half_length * std::abs(d.z());
+        break;
+      case Kind::cone:
+        local = std::max(half_length * d.z(), -half_length * d.z() + core_radius * rho);
+        break;
+    }
+    return local + n.dot(translation);
+  }
+
+  // A point of the true core maximising n . x (curved cores only).
+  Vec support_point(const Vec& n) const {
+    const Vec d = rotation.transpose() * n;
+    const double rho = std::hypot(d.x(), d.y());
+    const double cx = rho > 0.0 ? core_radius * d.x() / rho : 0.0;
+    const double cy = rho > 0.0 ? core_radius * d.y() / rho : 0.0;
+    Vec local;
+    if (kind == Kind::cylinder) {
+      local = Vec(cx, cy, d.z() >= 0.0 ? half_length : -half_length);
+    } else {
+      local = half_length * d.z() >= -half_length * d.z() + core_radius * rho ? Vec(0.0, 0.0, half_length)
+                                                                              : Vec(cx, cy, -half_length);
+    }
+    return rotation * local + translation;
+  }
+};
+
+// The core of `shape` posed by (rotation, translation) where translation is
+// already relative to the pair's centre.
+Core make_core(const Shape& shape, const Eigen::Matrix3d& rotation, const Vec& translation, int sides,
+               const std::vector<Vec>* override_points) {
+  Core core;
+  core.rotation = rotation;
+  core.translation = translation;
+  auto place = [&](const Vec& local) { core.points.push_back(rotation * local + translation); };
+  std::visit(
+      [&](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, collision::Sphere>) {
+          core.kind = Core::Kind::points;
+          core.radius = s.radius + s.margin;
+          place(Vec::Zero());
+        } else if constexpr (std::is_same_v<T, collision::Capsule>) {
+          core.kind = Core::Kind::segment;
+          core.radius = s.radius + s.margin;
+          core.half_length = s.half_length;
+          place(Vec(0, 0, -s.half_length));
+          place(Vec(0, 0, s.half_length));
+        } else if constexpr (std::is_same_v<T, collision::Box>) {
+          core.kind = Core::Kind::box;
+          core.radius = s.margin;
+          core.half_extents = s.half_extents;
+          for (int k = 0; k < 8; ++k)
+            place(Vec(k & 1 ? s.half_extents.x() : -s.half_extents.x(),
+                      k & 2 ? s.half_extents.y() : -s.half_extents.y(),
+                      k & 4 ? s.half_extents.z() : -s.half_extents.z()));
+        } else if constexpr (std::is_same_v<T, collision::Cylinder> || std::is_same_v<T, collision::Cone>) {
+          const bool cylinder = std::is_same_v<T, collision::Cylinder>;
+          core.kind = cylinder ? Core::Kind::cylinder : Core::Kind::cone;
+          core.radius = s.margin;
+          core.half_length = s.half_length;
+          core.core_radius = s.radius;
+          if (!cylinder) place(Vec(0, 0, s.half_length));
+          for (int k = 0; k < sides; ++k) {
+            const double angle = 2.0 * kPi * k / sides;
+            const double x = s.radius * std::cos(angle), y = s.radius * std::sin(angle);
+            place(Vec(x, y, -s.half_length));
+            if (cylinder) place(Vec(x, y, s.half_length));
+          }
+        } else {  // Polyhedron
+          core.kind = Core::Kind::points;
+          core.radius = s.margin;
+          if (override_points) {
+            for (const Vec& p : *override_points) place(p);
+          } else {
+            for (const Vec& v : s.hull->vertices()) place(s.hull->offset() + v);
+          }
+        }
+      },
+      shape);
+  return core;
+}
+
+// ---- the core difference ----------------------------------------------------
+
+struct CoreAnswer {
+  bool ok = false;
+  std::string reason;
+  double sd = 0.0;  // signed distance of the core difference
+  Vec normal = Vec::UnitZ();
+  bool unique = false;
+  double spread = 0.0;
+  Vec point_a = Vec::Zero();
+  Vec point_b = Vec::Zero();
+  int dimension = 3;
+  double flattening = 0.0;  // thickness neglected by a lower-dimensional computation
+  double tolerance = 0.0;
+  std::size_t points = 0;
+};
+
+// Closest point to the origin on triangle (a, b, c), by the Voronoi regions
+// of its vertices, edges and face; returns barycentric weights.
+std::array<double, 3> closest_on_triangle(const Vec& a, const Vec& b, const Vec& c) {
+  const Vec ab = b - a, ac = c - a, ap = -a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
+  const Vec bp = -b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double t = d1 / (d1 - d3);
+    return {1 - t, t, 0};
+  }
+  const Vec cp = -c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double t = d2 / (d2 - d6);
+    return {1 - t, 0, t};
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0, 1 - t, t};
+  }
+  const double den = va + vb + vc;
+  if (!(den > 0)) {  // degenerate triangle: best of its edges
+    const double tab = std::clamp(d1 / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+    return {1 - tab, tab, 0};
+  }
+  const double v = vb / den, w = vc / den;
+  return {1 - v - w, v, w};
+}
+
+// Barycentric coordinates of x in triangle (a, b, c) (projected on its plane).
+std::array<double, 3> barycentric(const Vec& x, const Vec& a, const Vec& b, const Vec& c) {
+  const Vec n = (b - a).cross(c - a);
+  const double nn = n.squaredNorm();
+  if (!(nn > 0)) return {-1, -1, -1};
+  const double u = n.dot((c - b).cross(x - b)) / nn;
+  const double v = n.dot((a - c).cross(x - c)) / nn;
+  return {u, v, 1 - u - v};
+}
+
+struct Diff {
+  const std::vector<Vec>& a;
+  const std::vector<Vec>& b;
+  std::vector<Vec> d;
+  explicit Diff(const std::vector<Vec>& pa, const std::vector<Vec>& pb) : a(pa), b(pb) {
+    d.reserve(a.size() * b.size());
+    for (const Vec& p : a)
+      for (const Vec& q : b) d.push_back(p - q);
+  }
+  const Vec& point_a(std::size_t k) const { return a[k / b.size()]; }
+  const Vec& point_b(std::size_t k) const { return b[k % b.size()]; }
+};
+
+void set_witness(CoreAnswer& out, const Diff& diff, std::initializer_list<std::pair<std::size_t, double>> weights) {
+  out.point_a = Vec::Zero();
+  out.point_b = Vec::Zero();
+  for (const auto& [k, w] : weights) {
+    out.point_a += w * diff.point_a(k);
+    out.point_b += w * diff.point_b(k);
+  }
+}
+
+Vec any_perpendicular(const Vec& u) {
+  const Vec t = std::abs(u.x()) < 0.6 ? Vec::UnitX() : Vec::UnitY();
+  return (t - u * u.dot(t)).normalized();
+}
+
+void segment_case(CoreAnswer& out, const Diff& diff, std::size_t k0, std::size_t k1) {
+  const Vec& p = diff.d[k0];
+  const Vec e = diff.d[k1] - p;
+  const double ee = e.squaredNorm();
+  const double t = ee > 0 ? std::clamp(-p.dot(e) / ee, 0.0, 1.0) : 0.0;
+  const Vec v = p + t * e;
+  out.sd = v.norm();
+  set_witness(out, diff, {{k0, 1 - t}, {k1, t}});
+  if (out.sd > out.tolerance) {
+    out.normal = -v / out.sd;
+    out.unique = true;
+  } else {
+    out.normal = ee > 0 ? any_perpendicular(e.normalized()) : Vec::UnitZ();
+    out.unique = false;
+  }
+}
+
+// D flat: the plane through p0 with unit normal m and in-plane basis u, w.
+void flat_case(CoreAnswer& out, const Diff& diff, const Vec& p0, const Vec& u, const Vec& w, const Vec& m) {
+  const std::size_t n = diff.d.size();
+  std::vector<std::pair<Eigen::Vector2d, std::size_t>> pts(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec r = diff.d[k] - p0;
+    pts[k] = {Eigen::Vector2d(r.dot(u), r.dot(w)), k};
+  }
+  std::sort(pts.begin(), pts.end(), [](const auto& x, const auto& y) {
+    return x.first.x() < y.first.x() || (x.first.x() == y.first.x() && x.first.y() < y.first.y());
+  });
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  // Andrew's monotone chain, counter-clockwise in (u, w).
+  std::vector<std::pair<Eigen::Vector2d, std::size_t>> hull(2 * n);
+  std::size_t h = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    while (h >= 2 && cross(hull[h - 2].first, hull[h - 1].first, pts[i].first) <= 0) --h;
+    hull[h++] = pts[i];
+  }
+  for (std::size_t i = n - 1, lower = h + 1; i-- > 0;) {
+    while (h >= lower && cross(hull[h - 2].first, hull[h - 1].first, pts[i].first) <= 0) --h;
+    hull[h++] = pts[i];
+  }
+  hull.resize(h > 1 ? h - 1 : h);
+  if (hull.size() < 3) {  // collinear after all: the segment between the extremes
+    segment_case(out, diff, pts.front().second, pts.back().second);
+    return;
+  }
+  const Eigen::Vector2d o(-p0.dot(u), -p0.dot(w));
+  const double height = -p0.dot(m);  // the origin is p0 + o.x u + o.y w + height m
+  bool inside = true;
+  for (std::size_t i = 0; i < hull.size(); ++i)
+    if (cross(hull[i].first, hull[(i + 1) % hull.size()].first, o) < 0) inside = false;
+  if (inside) {
+    // The fan triangle holding o gives the witness weights.
+    double best_min = -std::numeric_limits<double>::infinity();
+    std::array<double, 3> best_w{1, 0, 0};
+    std::size_t best_t = 1;
+    for (std::size_t t = 1; t + 1 < hull.size(); ++t) {
+      const Eigen::Vector2d a = hull[0].first, b = hull[t].first, c = hull[t + 1].first;
+      const double area = cross(a, b, c);
+      if (!(area > 0)) continue;
+      const std::array<double, 3> wts{cross(b, c, o) / area, cross(c, a, o) / area, cross(a, b, o) / area};
+      const double mn = std::min({wts[0], wts[1], wts[2]});
+      if (mn > best_min) {
+        best_min = mn;
+        best_w = wts;
+        best_t = t;
+      }
+    }
+    set_witness(out, diff,
+                {{hull[0].second, best_w[0]}, {hull[best_t].second, best_w[1]}, {hull[best_t + 1].second, best_w[2]}});
+    out.sd = std::abs(height);
+    if (out.sd > out.tolerance) {
+      out.normal = height > 0 ? m : Vec(-m);
+      out.unique = true;
+    } else {
+      out.normal = m;  // +m and -m both attain the minimum
+      out.unique = false;
+    }
+    return;
+  }
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t best_i = 0;
+  double best_t = 0;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Vec& p = diff.d[hull[i].second];
+    const Vec e = diff.d[hull[(i + 1) % hull.size()].second] - p;
+    const double ee = e.squaredNorm();
+    const double t = ee > 0 ? std::clamp(-p.dot(e) / ee, 0.0, 1.0) : 0.0;
+    const double dist = (p + t * e).norm();
+    if (dist < best) {
+      best = dist;
+      best_i = i;
+      best_t = t;
+    }
+  }
+  segment_case(out, diff, hull[best_i].second, hull[(best_i + 1) % hull.size()].second);
+  (void)best_t;
+}
+
+void solid_case(CoreAnswer& out, const Diff& diff) {
+  const QhullHull h = qhull_hull(diff.d, "Qt");
+  if (!h.ok) {
+    out.ok = false;
+    out.reason =
+        "qhull failed on the Minkowski difference (" + std::to_string(diff.d.size()) + " points): " + h.messages;
+    return;
+  }
+  const std::size_t nt = h.triangles.size();
+  std::size_t best_f = 0;
+  for (std::size_t f = 1; f < nt; ++f)
+    if (h.triangle_planes[f][3] > h.triangle_planes[best_f][3]) best_f = f;
+  const double max_offset = h.triangle_planes[best_f][3];
+
+  bool separated_normal = false;
+  if (max_offset > 0) {
+    // Outside: the closest point lies on a facet whose plane has the origin in front.
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t f = 0; f < nt; ++f) {
+      if (!(h.triangle_planes[f][3] > 0)) continue;
+      const auto& t = h.triangles[f];
+      const std::array<double, 3> wts = closest_on_triangle(diff.d[t[0]], diff.d[t[1]], diff.d[t[2]]);
+      const Vec v = wts[0] * diff.d[t[0]] + wts[1] * diff.d[t[1]] + wts[2] * diff.d[t[2]];
+      const double dist = v.norm();
+      if (dist < best) {
+        best = dist;
+        out.normal = dist > 0 ? Vec(-v / dist) : Vec::UnitZ();
+        set_witness(out, diff, {{std::size_t(t[0]), wts[0]}, {std::size_t(t[1]), wts[1]}, {std::size_t(t[2]), wts[2]}});
+      }
+    }
+    out.sd = best;
+    separated_normal = best > out.tolerance;
+  } else {
+    out.sd = max_offset;
+  }
+  if (separated_normal) {
+    out.unique = true;
+    out.spread = 0.0;
+    return;
+  }
+  // Touching or inside: the nearest facet planes decide.
+  const Vec n_best = h.triangle_planes[best_f].head<3>();
+  out.spread = 0.0;
+  double best_min = -std::numeric_limits<double>::infinity();
+  std::size_t witness_f = best_f;
+  std::array<double, 3> witness_w{1.0 / 3, 1.0 / 3, 1.0 / 3};
+  const Vec x = -max_offset * n_best;  // the origin's projection on the best plane
+  for (std::size_t f = 0; f < nt; ++f) {
+    if (h.triangle_planes[f][3] < max_offset - out.tolerance) continue;
+    const Vec n = h.triangle_planes[f].head<3>();
+    const double angle = std::atan2(n.cross(n_best).norm(), n.dot(n_best));
+    out.spread = std::max(out.spread, angle);
+    if (angle > kUniqueAngle) continue;
+    const auto& t = h.triangles[f];
+    const std::array<double, 3> wts = barycentric(x, diff.d[t[0]], diff.d[t[1]], diff.d[t[2]]);
+    const double mn = std::min({wts[0], wts[1], wts[2]});
+    if (mn > best_min) {
+      best_min = mn;
+      witness_f = f;
+      witness_w = wts;
+    }
+  }
+  out.normal = n_best;
+  out.unique = out.spread <= kUniqueAngle;
+  if (max_offset <= 0) {
+    const auto& t = h.triangles[witness_f];
+    set_witness(
+        out, diff,
+        {{std::size_t(t[0]), witness_w[0]}, {std::size_t(t[1]), witness_w[1]}, {std::size_t(t[2]), witness_w[2]}});
+  }
+}
+
+CoreAnswer core_distance(const std::vector<Vec>& a, const std::vector<Vec>& b) {
+  CoreAnswer out;
+  out.ok = true;
+  const Diff diff(a, b);
+  const std::vector<Vec>& d = diff.d;
+  out.points = d.size();
+  double size = 0.0;
+  for (const Vec& p : d) size = std::max(size, p.cwiseAbs().maxCoeff());
+  const Vec p0 = d[0];
+  std::size_t i1 = 0;
+  double extent = 0.0;
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    const double r = (d[k] - p0).norm();
+    if (r > extent) {
+      extent = r;
+      i1 = k;
+    }
+  }
+  out.tolerance = 64 * kEps * std::max(size, extent);
+  if (extent <= out.tolerance) {
+    out.dimension = 0;
+    out.flattening = extent;
+    segment_case(out, diff, 0, 0);
+    return out;
+  }
+  const Vec u = (d[i1] - p0) / extent;
+  std::size_t i2 = 0;
+  double width = 0.0;
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    const Vec r = d[k] - p0;
+    const double off = (r - u * u.dot(r)).norm();
+    if (off > width) {
+      width = off;
+      i2 = k;
+    }
+  }
+  if (width <= out.tolerance) {
+    out.dimension = 1;
+    out.flattening = width;
+    std::size_t kmin = 0, kmax = 0;
+    for (std::size_t k = 0; k < d.size(); ++k) {
+      const double s = u.dot(d[k] - p0);
+      if (s < u.dot(d[kmin] - p0)) kmin = k;
+      if (s > u.dot(d[kmax] - p0)) kmax = k;
+    }
+    segment_case(out, diff, kmin, kmax);
+    return out;
+  }
+  const Vec m = u.cross(d[i2] - p0).normalized();
+  double thickness = 0.0;
+  for (const Vec& p : d) thickness = std::max(thickness, std::abs(m.dot(p - p0)));
+  if (thickness <= out.tolerance) {
+    out.dimension = 2;
+    out.flattening = thickness;
+    const Vec w = m.cross(u);
+    flat_case(out, diff, p0, u, w, m);
+    return out;
+  }
+  out.dimension = 3;
+  solid_case(out, diff);
+  return out;
+}
+
+bool finite_points(const std::vector<Vec>& points) {
+  for (const Vec& p : points)
+    if (!p.allFinite()) return false;
+  return true;
+}
+
+ExactResult fail(const std::string& reason) {
+  ExactResult r;
+  r.ok = false;
+  r.reason = reason;
+  return r;
+}
+
+}  // namespace
+
+ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                                  const ExactSettings& settings) {
+  const collision::ShapeValidation va = collision::validate(a);
+  if (!va.ok()) return fail("shape a: " + va.message);
+  const collision::ShapeValidation vb = collision::validate(b);
+  if (!vb.ok()) return fail("shape b: " + vb.message);
+  if (!pose_a.finite() || !pose_b.finite()) return fail("a pose is not finite");
+  if (settings.override_a && !finite_points(*settings.override_a)) return fail("points of a are not finite");
+  if (settings.override_b && !finite_points(*settings.override_b)) return fail("points of b are not finite");
+
+  const int sides = settings.polygon_sides > 0 ? settings.polygon_sides : 8;
+
+  // The pair's centre: t_a + (t_b - t_a)/2; translations relative to it.
+  const Vec half = 0.5 * (pose_b.translation - pose_a.translation);
+  const Vec centre = pose_a.translation + half;
+  Core core_a = make_core(a, pose_a.rotation, -half, sides, settings.override_a);
+  Core core_b = make_core(b, pose_b.rotation, half, sides, settings.override_b);
+  const double radius = core_a.radius + core_b.radius;
+  const bool curved = core_a.curved() || core_b.curved();
+
+  ExactResult out;
+  out.curved = curved;
+  out.polygon_sides = curved ? sides : 0;
+  double upper = std::numeric_limits<double>::infinity();
+  double lower = -std::numeric_limits<double>::infinity();
+  double delta = sides > 0 ? kPi / sides : 0.0;
+  CoreAnswer kept;
+  const double size = std::max(collision::bounding_radius(a), collision::bounding_radius(b));
+  const int passes = curved ? std::max(1, settings.refinements + 1) : 1;
+  for (int pass = 0; pass < passes; ++pass) {
+    const CoreAnswer core = core_distance(core_a.points, core_b.points);
+    if (!core.ok) return fail(core.reason);
+    const double sd = core.sd - radius;
+    if (sd < upper || pass == 0) {
+      upper = sd;
+      kept = core;
+    }
+    const Vec& n = core.normal;
+    lower = std::max(lower, -(core_a.support_value(n) + core_b.support_value(-n)) - radius);
+    if (!curved) break;
+    if (upper - lower <= std::max(core.tolerance + core.flattening, settings.target_width * size)) break;
+    if (core.points > settings.max_difference_points) break;  // the bracket stays as wide as it is
+    // Refine: exact support points of the curved cores in n and on a 3x3
+    // grid of directions around it (spacing delta, shrinking every pass).
+    const Vec p = any_perpendicular(n), q = n.cross(p);
+    for (int i = -1; i <= 1; ++i) {
+      for (int j = -1; j <= 1; ++j) {
+        const Vec dir = (n + delta * (i * p + j * q)).normalized();
+        if (core_a.curved()) core_a.points.push_back(core_a.support_point(dir));
+        if (core_b.curved()) core_b.points.push_back(core_b.support_point(-dir));
+      }
+    }
+    delta /= 4;
+  }
+
+  const double rounding = kept.tolerance + kept.flattening;
+  if (curved) {
+    lower = std::min(lower, upper);  // rounding may cross them
+    out.distance = 0.5 * (lower + upper);
+    out.error_bound = 0.5 * (upper - lower) + rounding;
+  } else {
+    out.distance = upper;
+    out.error_bound = rounding;
+  }
+  out.lower = out.distance - out.error_bound;
+  out.upper = out.distance + out.error_bound;
+  out.normal = kept.normal;
+  out.normal_unique = kept.unique && !curved;
+  out.normal_spread = kept.spread;
+  out.point_a = centre + kept.point_a + core_a.radius * kept.normal;
+  out.point_b = centre + kept.point_b - core_b.radius * kept.normal;
+  out.dimension = kept.dimension;
+  out.difference_points = kept.points;
+  out.tolerance = kept.tolerance;
+  out.ok = std::isfinite(out.distance) && std::isfinite(out.error_bound) && out.normal.allFinite() &&
+           out.point_a.allFinite() && out.point_b.allFinite();
+  if (!out.ok) return fail("non-finite result (input out of range)");
+  return out;
+}
+
+ExactResult exact_signed_distance(const std::vector<Vec>& a_points, const std::vector<Vec>& b_points) {
+  if (a_points.empty() || b_points.empty()) return fail("an empty point set");
+  if (!finite_points(a_points) || !finite_points(b_points)) return fail("a point is not finite");
+  Vec mean_a = Vec::Zero(), mean_b = Vec::Zero();
+  for (const Vec& p : a_points) mean_a += p;
+  for (const Vec& p : b_points) mean_b += p;
+  mean_a /= static_cast<double>(a_points.size());
+  mean_b /= static_cast<double>(b_points.size());
+  const Vec centre = mean_a + 0.5 * (mean_b - mean_a);
+  std::vector<Vec> a, b;
+  a.reserve(a_points.size());
+  b.reserve(b_points.size());
+  for (const Vec& p : a_points) a.push_back(p - centre);
+  for (const Vec& p : b_points) b.push_back(p - centre);
+  const CoreAnswer core = core_distance(a, b);
+  if (!core.ok) return fail(core.reason);
+  ExactResult out;
+  out.ok = true;
+  out.distance = core.sd;
+  out.error_bound = core.tolerance + core.flattening;
+  out.lower = out.distance - out.error_bound;
+  out.upper = out.distance + out.error_bound;
+  out.normal = core.normal;
+  out.normal_unique = core.unique;
+  out.normal_spread = core.spread;
+  out.point_a = centre + core.point_a;
+  out.point_b = centre + core.point_b;
+  out.dimension = core.dimension;
+  out.difference_points = core.points;
+  out.tolerance = core.tolerance;
+  return out;
+}
+
+}  // namespace hedra::reference

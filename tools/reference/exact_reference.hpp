@@ -1,0 +1,136 @@
+// The exact reference for hedra::collision's queries: the signed distance
+// between two posed shapes, computed independently of hedra's GJK and EPA
+// (and of its support mappings) from the convex hull of the Minkowski
+// difference of the shapes' cores, built by qhull.
+//
+// Every shape splits into a core point set and a radius:
+//   sphere    its centre,                      radius + margin
+//   capsule   the two segment end points,      radius + margin
+//   box       its 8 corners,                   margin
+//   hull      its vertices,                    margin
+//   cylinder  2n rim points (two inscribed n-gons), margin
+//   cone      the apex and an inscribed n-gon, margin
+// The points go to world coordinates recentred on the pair's midpoint
+// c = t_a + (t_b - t_a)/2 (t_b - t_a is exact for nearby bodies, so bodies at
+// 1e6 lose nothing of their own size), and D = {a_i - b_j} is formed.
+//
+// Signed distance. For a convex set K and the origin,
+//   sd(K) = max over unit n of (-h_K(n)),   h_K(n) = max_{x in K} n . x,
+// the distance when the origin is outside, minus the depth inside; the
+// maximiser n is the normal from A toward B. With D's hull and radii
+// R = r_a + r_b: sd(A, B) = sd(D) - R (h of a set grown by a ball of radius
+// R is h + R). From qhull's hull of D (facet planes n_f . x + o_f = 0,
+// outward n_f):
+//   origin outside (some o_f > 0): sd = min over facet triangles of the
+//     distance to the triangle; normal = -v/|v| at the closest point v;
+//   inside: sd = max_f o_f (the nearest facet plane); normal = that n_f.
+// Witnesses: the closest point of D (its barycentric coordinates on a
+// triangle of differences a_i - b_j) gives the points on the cores, then
+// point_a += r_a n, point_b -= r_b n, so point_b - point_a = sd n.
+//
+// Lower dimensions. qhull needs a full-dimensional input; D is a point
+// (sphere-sphere), a segment (sphere-capsule, parallel capsules) or flat
+// (capsule-capsule, a flat hull against a sphere) in common cases. The
+// affine dimension is measured first (farthest point from a point, a line, a
+// plane); a thickness below 64 eps of D's size counts as flat and is added
+// to the error bound; then the distance is computed in 0D/1D/2D directly
+// (closest point on a segment, on a planar convex polygon). The origin never
+// lies strictly inside a flat D: sd(D) >= 0 and the normal is not unique when
+// the origin touches D.
+//
+// Curved shapes (cylinders, cones) are bracketed: the inscribed polygons make
+// a subset of the true shape, so sd_inscribed >= sd_true (h is monotone in the
+// set); and for any unit n, sd_true >= -h_true(n) - R with h_true the exact
+// support function (closed forms written here). The bracket
+// [max_k -h_true(n_k) - R, min_k sd_inscribed_k] starts from octagons and is
+// refined by adding the exact support points of the cores for a 3x3 grid of
+// directions around the current normal n_k (spacing pi/8, then 4 times
+// smaller every pass). The points lie on the true surface, so the polygons
+// stay inscribed; passes stop when the bracket is narrower than 1e-12 of the
+// size (typically 2 to 10 passes; measured: under 2 ms for a cylinder on a
+// box, up to ~0.2 s for two penetrating curved shapes). `distance` is the
+// bracket's midpoint and `error_bound` its half width (plus rounding). The
+// normal of a curved pair is not certified (normal_unique is false).
+//
+// Uniqueness of the normal (polytope cores): separated by more than the
+// tolerance, the closest point v is unique and so is -v/|v|. Otherwise the
+// facets whose plane lies within the tolerance of the best one are the
+// candidates; the normal is unique when they all agree within 1e-8 rad.
+//
+// Costs: |A| |B| points through qhull (milliseconds for a few thousand;
+// refinement stops at a point budget). Failures (non-finite input, invalid shape, qhull error) give
+// ok == false with the reason; nothing is guessed.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/shapes.hpp>
+#include <string>
+#include <vector>
+
+namespace hedra::reference {
+
+struct ExactSettings {
+  // Sides of the initial inscribed polygons of cylinders and cones (0: 8).
+  int polygon_sides = 0;
+  // No refinement pass starts once the difference has more points than this
+  // (a curved shape against a large hull): the bracket is then reported as
+  // wide as it is.
+  std::size_t max_difference_points = 60000;
+  // Refinement passes for curved shapes (each one qhull build), until the
+  // bracket is narrower than target_width times the larger shape's bounding
+  // radius.
+  int refinements = 16;
+  double target_width = 1e-12;
+  // Optional: the input points (local frame) of a Polyhedron shape a or b,
+  // used instead of its quickhull vertices so that the reference does not
+  // depend on hedra's hull builder either. Ignored for other shapes.
+  const std::vector<Eigen::Vector3d>* override_a = nullptr;
+  const std::vector<Eigen::Vector3d>* override_b = nullptr;
+};
+
+struct ExactResult {
+  bool ok = false;
+  std::string reason;  // why not ok (empty when ok)
+
+  // Signed distance: > 0 separated, < 0 minus the penetration depth, with
+  // |distance - true| <= error_bound.
+  double distance = 0.0;
+  double error_bound = 0.0;
+  // The certified bracket (up to rounding, which error_bound includes):
+  // lower <= true <= upper. Equal for polytope pairs.
+  double lower = 0.0;
+  double upper = 0.0;
+
+  // Unit normal from A toward B (world frame), a maximiser of -h_D(n).
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  // The normal is unique (see the top of the file) and exact to rounding:
+  // polytope cores only.
+  bool normal_unique = false;
+  // Largest angle (rad) between candidate normals (0 when one candidate).
+  double normal_spread = 0.0;
+
+  // Witness points, world frame: on (or, for curved shapes, on the inscribed
+  // polygons of) the shapes, point_b - point_a = distance * normal (for
+  // curved shapes with the inscribed distance).
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();
+
+  bool curved = false;                // a cylinder or cone was approximated
+  int dimension = 3;                  // affine dimension of the core difference
+  int polygon_sides = 0;              // sides used for curved shapes (0 if none)
+  std::size_t difference_points = 0;  // |A| |B| of the last qhull input
+  double tolerance = 0.0;             // the rounding tolerance used (scale of D)
+};
+
+// Signed distance between two posed hedra::collision shapes.
+ExactResult exact_signed_distance(const collision::Shape& a, const collision::Pose& pose_a, const collision::Shape& b,
+                                  const collision::Pose& pose_b, const ExactSettings& settings = {});
+
+// Signed distance between the convex hulls of two world point sets (radii
+// 0): the polytope case of the above, for tests that hold points.
+ExactResult exact_signed_distance(const std::vector<Eigen::Vector3d>& a_points,
+                                  const std::vector<Eigen::Vector3d>& b_points);
+
+}  // namespace hedra::reference
