@@ -353,7 +353,15 @@ void solid_case(CoreAnswer& out, const Diff& diff) {
       const double dist = v.norm();
       if (dist < best) {
         best = dist;
-        out.normal = dist > 0 ? Vec(-v / dist) : Vec::UnitZ();
+        // Inside the facet's face region the facet's own plane normal (from
+        // qhull, accurate to rounding of D's size) is the normal; -v/|v|
+        // loses eps * size / |v| of angle when |v| is small.
+        // On a shared edge of a merged facet's triangles the two agree to
+        // within that rounding: the plane normal is taken then too.
+        const Vec plane_normal = h.triangle_planes[f].head<3>();
+        const bool face_region = (wts[0] > 0 && wts[1] > 0 && wts[2] > 0) ||
+                                 (dist > 0 && (v / dist + plane_normal).norm() * dist <= out.tolerance);
+        out.normal = face_region ? plane_normal : dist > 0 ? Vec(-v / dist) : Vec::UnitZ();
         set_witness(out, diff, {{std::size_t(t[0]), wts[0]}, {std::size_t(t[1]), wts[1]}, {std::size_t(t[2]), wts[2]}});
       }
     }
@@ -503,6 +511,7 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
   double upper = std::numeric_limits<double>::infinity();
   double lower = -std::numeric_limits<double>::infinity();
   double delta = sides > 0 ? kPi / sides : 0.0;
+  Vec previous_normal = Vec::Zero();
   CoreAnswer kept;
   const double size = std::max(collision::bounding_radius(a), collision::bounding_radius(b));
   const int passes = curved ? std::max(1, settings.refinements + 1) : 1;
@@ -520,7 +529,7 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
     if (upper - lower <= std::max(core.tolerance + core.flattening, settings.target_width * size)) break;
     if (core.points > settings.max_difference_points) break;  // the bracket stays as wide as it is
     // Refine: exact support points of the curved cores in n and on a 3x3
-    // grid of directions around it (spacing delta, shrinking every pass).
+    // grid of directions around it (spacing delta).
     const Vec p = any_perpendicular(n), q = n.cross(p);
     for (int i = -1; i <= 1; ++i) {
       for (int j = -1; j <= 1; ++j) {
@@ -529,7 +538,11 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
         if (core_b.curved()) core_b.points.push_back(core_b.support_point(-dir));
       }
     }
-    delta /= 4;
+    // Shrink the grid fast while the normal stays inside it, slowly when it
+    // moved farther (two nearly tied features: the normal alternates and
+    // each needs the grid).
+    delta /= std::acos(std::clamp(n.dot(previous_normal), -1.0, 1.0)) <= delta ? 4 : 2;
+    previous_normal = n;
   }
 
   const double rounding = kept.tolerance + kept.flattening;

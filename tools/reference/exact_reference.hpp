@@ -45,10 +45,10 @@
 // [max_k -h_true(n_k) - R, min_k sd_inscribed_k] starts from octagons and is
 // refined by adding the exact support points of the cores for a 3x3 grid of
 // directions around the current normal n_k (spacing pi/8, then 4 times
-// smaller every pass). The points lie on the true surface, so the polygons
-// stay inscribed; passes stop when the bracket is narrower than 1e-12 of the
-// size (typically 2 to 10 passes; measured: under 2 ms for a cylinder on a
-// box, up to ~0.2 s for two penetrating curved shapes). `distance` is the
+// smaller every pass, 2 times when the normal moved out of the grid). The points lie on the true surface, so the
+// polygons stay inscribed; passes stop when the bracket is narrower than 1e-12 of the size, or after 16 passes
+// (measured on the 425 scene queries: median 0.13 ms, 90th percentile 12 ms, at most 0.33 s for two separated curved
+// shapes; widest bracket 2.7e-11 of the pair's size). `distance` is the
 // bracket's midpoint and `error_bound` its half width (plus rounding). The
 // normal of a curved pair is not certified (normal_unique is false).
 //

@@ -410,6 +410,53 @@ void contact(std::vector<SceneSpec>& out) {
   }
 }
 
+void curved_contact(std::vector<SceneSpec>& out) {
+  {
+    Builder b("contact", "curved_resting",
+              "Curved shapes resting on a box (half 3 x 3 x 0.5, top at z = 0), each sunk 1e-6: a cylinder upright "
+              "(face contact), a cylinder on its side (line contact), a cone on its base, a capsule lying down, a "
+              "sphere; and a cone apex down 1e-6 above the top (point contact, separated).");
+    b.shape(box("floor", Vec(3, 3, 0.5))).shape(cylinder("can", 0.3, 0.4)).shape(cone("tip", 0.35, 0.45));
+    b.shape(capsule("pill", 0.2, 0.5)).shape(sphere("ball", 0.25));
+    const double d = 1e-6;
+    b.body("floor", "floor", Vec(0, 0, -0.5));
+    b.body("can_up", "can", Vec(-2, -2, 0.4 - d), quat(0.7, Vec::UnitZ()));
+    b.body("can_side", "can", Vec(-1, 1.5, 0.3 - d), quat(kPi / 2, Vec(std::cos(0.4), std::sin(0.4), 0)));
+    b.body("tip_base", "tip", Vec(1, -1.5, 0.45 - d), quat(0.2, Vec::UnitZ()));
+    b.body("tip_apex", "tip", Vec(2, 2, 0.45 + d), quat(kPi, Vec(std::cos(1.1), std::sin(1.1), 0)));
+    b.body("pill", "pill", Vec(0.5, 0.5, 0.2 - d), quat(kPi / 2, Vec(std::cos(2.0), std::sin(2.0), 0)));
+    b.body("ball", "ball", Vec(-0.5, -0.7, 0.25 - d));
+    b.all("floor", "can_up").all("floor", "can_side").all("floor", "tip_base").all("floor", "tip_apex");
+    b.all("floor", "pill").all("floor", "ball");
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("contact", "curved_pairs_near_contact",
+              "Curved against curved near contact: two parallel cylinders side by side 1e-6 apart and 1e-6 deep, "
+              "crossed cylinders rim to side, a cone apex 1e-6 from a cylinder's side, a sphere 1e-6 into a cone's "
+              "lateral surface.");
+    b.shape(cylinder("can", 0.3, 0.4))
+        .shape(cylinder("rod", 0.1, 0.8))
+        .shape(cone("tip", 0.35, 0.45))
+        .shape(sphere("ball", 0.2));
+    const double d = 1e-6;
+    const Vec side = Vec(3, 4, 0).normalized();
+    b.body("c1", "can", Vec(0, 0, 0));
+    b.body("c_apart", "can", (0.6 + d) * side + Vec(0, 0, 0.1));
+    b.body("c_deep", "can", -(0.6 - d) * side + Vec(0, 0, -0.1));
+    b.body("rod_cross", "rod", Vec(0, 0.3 + 0.1 - d, 0.2), quat(kPi / 2, Vec::UnitY()));
+    b.body("tip", "tip", Vec(0.3 + 0.45 + d, 0, 0), quat(-kPi / 2, Vec::UnitY()));  // apex toward -x
+    // The ball's centre 0.2 - d from the cone's lateral surface (at its mid-height, on +x).
+    const double slant = std::atan2(0.35, 0.9);  // half-angle of the cone
+    const Vec foot(0.35 * 0.5, 0, 0.0);          // lateral surface at z = 0
+    const Vec outward(std::cos(slant), 0, std::sin(slant));
+    b.body("cone", "tip", Vec(0, 5, 0));
+    b.body("ball", "ball", Vec(0, 5, 0) + foot + (0.2 - d) * outward);
+    b.all("c1", "c_apart").all("c1", "c_deep").all("c1", "rod_cross").all("c1", "tip").all("cone", "ball");
+    out.push_back(b.scene);
+  }
+}
+
 void parallel(std::vector<SceneSpec>& out) {
   for (double tilt : {1e-9, 1e-7, 1e-5, 1e-4}) {
     char name[64];
@@ -670,6 +717,7 @@ std::vector<SceneSpec> make_scenes(const std::vector<Mesh>& meshes) {
   stacks(out);
   pairs(out);
   contact(out);
+  curved_contact(out);
   parallel(out);
   extreme(out);
   large(out, by_name);
