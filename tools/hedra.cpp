@@ -15,6 +15,7 @@
 
 #include "check_command.hpp"
 #include "command.hpp"
+#include "compare/compare_command.hpp"
 #include "hull_command.hpp"
 #include "query_command.hpp"
 #include "view/view_command.hpp"
@@ -33,6 +34,7 @@ constexpr AddSubcommand kSubcommands[] = {
     &hedra::tool::add_query_command,
     &hedra::tool::add_check_command,
     &hedra::tool::add_view_command,
+    &hedra::tool::add_compare_command,
 };
 
 int run(int argc, char** argv) {

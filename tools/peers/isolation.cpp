@@ -20,7 +20,7 @@ namespace {
 
 struct WireResult {
   std::uint8_t supported, ok, intersecting, has_distance;
-  double distance;
+  double distance, time_ns;
   double normal[3], point_a[3], point_b[3];
   char status[160];
 };
@@ -33,6 +33,7 @@ WireResult encode(const PeerResult& r) {
   w.intersecting = r.intersecting;
   w.has_distance = r.has_distance;
   w.distance = r.distance;
+  w.time_ns = r.time_ns;
   for (int k = 0; k < 3; ++k) {
     w.normal[k] = r.normal[k];
     w.point_a[k] = r.point_a[k];
@@ -49,6 +50,7 @@ PeerResult decode(const WireResult& w) {
   r.intersecting = w.intersecting;
   r.has_distance = w.has_distance;
   r.distance = w.distance;
+  r.time_ns = w.time_ns;
   for (int k = 0; k < 3; ++k) {
     r.normal[k] = w.normal[k];
     r.point_a[k] = w.point_a[k];

@@ -41,6 +41,9 @@ struct PeerResult {
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();
   bool has_distance = false;  // distance (and normal, witnesses) were reported
   std::string status;         // "ok", or why not
+  // Time of the query alone (ns), for callers that measure it (hedra
+  // compare); the adapters leave it 0.
+  double time_ns = 0.0;
 };
 
 struct PeerPair {
