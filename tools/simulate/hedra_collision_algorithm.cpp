@@ -24,30 +24,32 @@ collision::Pose to_pose(const btTransform& t) {
 
 }  // namespace
 
-bool ShapeCache::get(const btCollisionShape* shape, collision::Shape& out) {
+collision::Pose CachedShape::pose(const btTransform& world) const {
+  collision::Pose p = to_pose(world);
+  p.translation = p.apply(offset);
+  return p;
+}
+
+const CachedShape* ShapeCache::get(const btCollisionShape* shape) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto found = shapes_.find(shape);
-  if (found != shapes_.end()) {
-    out = found->second;
-    return true;
-  }
-  collision::Shape made;
+  if (found != shapes_.end()) return found->second.get();
+  auto made = std::make_unique<CachedShape>();
   if (shape->getShapeType() == BOX_SHAPE_PROXYTYPE) {
     const auto* box = static_cast<const btBoxShape*>(shape);
-    made = collision::Box{to_eigen(box->getHalfExtentsWithMargin())};
+    made->shape = collision::Box{to_eigen(box->getHalfExtentsWithMargin())};
   } else if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
     const auto* hull = static_cast<const btConvexHullShape*>(shape);
     std::vector<Eigen::Vector3d> points;
     for (int i = 0; i < hull->getNumPoints(); ++i) points.push_back(to_eigen(hull->getScaledPoint(i)));
     const auto built = collision::ConvexPolyhedron::build(points);
-    if (!built.ok()) return false;
-    made = collision::Polyhedron{built.polyhedron, hull->getMargin()};
+    if (!built.ok()) return nullptr;
+    made->shape = collision::Polyhedron{built.polyhedron, hull->getMargin()};
+    made->offset = built.polyhedron->offset();
   } else {
-    return false;
+    return nullptr;
   }
-  shapes_.emplace(shape, made);
-  out = made;
-  return true;
+  return shapes_.emplace(shape, std::move(made)).first->second.get();
 }
 
 HedraCollisionAlgorithm::HedraCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
@@ -68,12 +70,13 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
                                                const btDispatcherInfo&, btManifoldResult* result) {
   if (!manifold_) return;
   result->setPersistentManifold(manifold_);
-  collision::Shape sa, sb;
-  if (!shapes_->get(a->getCollisionShape(), sa) || !shapes_->get(b->getCollisionShape(), sb)) return;
+  const CachedShape* sa = shapes_->get(a->getCollisionShape());
+  const CachedShape* sb = shapes_->get(b->getCollisionShape());
+  if (!sa || !sb) return;
   collision::ContactSettings settings;
   settings.contact_distance = manifold_->getContactBreakingThreshold();
-  const collision::ContactResult r =
-      collision::contact(sa, to_pose(a->getWorldTransform()), sb, to_pose(b->getWorldTransform()), &cache_, settings);
+  const collision::ContactResult r = collision::contact(sa->shape, sa->pose(a->getWorldTransform()), sb->shape,
+                                                        sb->pose(b->getWorldTransform()), &cache_, settings);
   ++g_queries;
   for (int k = 0; k < r.count; ++k) {
     const collision::ContactPoint& p = r.points[k];
