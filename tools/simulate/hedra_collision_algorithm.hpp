@@ -15,6 +15,8 @@
 // its centroid (ConvexPolyhedron::offset()), so the hull is posed at the
 // body's transform applied to that offset. The speculative contact distance is the
 // manifold's contact-breaking threshold. Each pair keeps its ContactCache.
+// Points go into the manifold deepest first, then around the contact
+// polygon (the order Bullet's solver visits them; see polygon_order()).
 #pragma once
 
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>

@@ -72,7 +72,7 @@ struct SceneReport {
   // averaged over all steps.
   double points_per_manifold = 0.0;
   double manifolds_per_step = 0.0;
-  double median_step_us = 0.0;  // median wall time of one stepSimulation call
+  double median_step_us = 0.0;  // median wall time of a stepSimulation call, over the steps with a body awake
   long hedra_queries = 0;       // contact() calls made by hedra's algorithm
 };
 
