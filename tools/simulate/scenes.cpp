@@ -8,11 +8,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <hedra/collision/query.hpp>
 #include <memory>
 #include <random>
 #include <vector>
 
+#include "exact_reference.hpp"
 #include "hedra_collision_algorithm.hpp"
 
 namespace hedra::simulate {
@@ -255,8 +255,10 @@ SceneReport run_scene(const SceneSettings& settings) {
     report.top_drift = std::hypot(d.x(), d.y());
   }
 
-  // Final state, measured with hedra's shapes and penetration() for either
-  // narrowphase (EPA's depth between the same rounded shapes Bullet sees).
+  // Final state, measured for either narrowphase by the exact reference
+  // (tools/reference: qhull's hull of the Minkowski difference, independent
+  // of hedra's GJK/EPA/SAT) between every pair of bodies, on the same
+  // rounded shapes Bullet sees.
   std::vector<const CachedShape*> hedra_shapes(n);
   std::vector<double> sizes(n);
   report.size = INFINITY;
@@ -275,9 +277,13 @@ SceneReport run_scene(const SceneSettings& settings) {
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n; ++j) {
       if (!hedra_shapes[i] || !hedra_shapes[j]) continue;
-      const collision::PenetrationResult r =
-          collision::penetration(hedra_shapes[i]->shape, hedra_shapes[i]->pose(bodies[i]->getWorldTransform()),
-                                 hedra_shapes[j]->shape, hedra_shapes[j]->pose(bodies[j]->getWorldTransform()));
+      const reference::ExactResult r = reference::exact_signed_distance(
+          hedra_shapes[i]->shape, hedra_shapes[i]->pose(bodies[i]->getWorldTransform()), hedra_shapes[j]->shape,
+          hedra_shapes[j]->pose(bodies[j]->getWorldTransform()));
+      if (!r.ok) {
+        report.measure_failures++;
+        continue;
+      }
       const double size = i == 0 ? sizes[j] : std::min(sizes[i], sizes[j]);
       report.max_penetration = std::max(report.max_penetration, -r.distance / size);
       if (i == 0) report.lowest_above_ground = std::min(report.lowest_above_ground, r.distance / size);

@@ -18,8 +18,9 @@
 // algorithms of box and hull pairs differ.
 //
 // Measures (SceneReport): the top body's sideways drift, late creep, jitter,
-// the deepest interpenetration at the end (hedra's penetration(), the EPA
-// depth, between every pair of bodies including the ground), contact counts
+// the deepest interpenetration at the end (the exact reference of
+// tools/reference, between every pair of bodies including the ground),
+// contact counts
 // and the median wall time of a step.
 #pragma once
 
@@ -74,6 +75,7 @@ struct SceneReport {
   double manifolds_per_step = 0.0;
   double median_step_us = 0.0;  // median wall time of a stepSimulation call, over the steps with a body awake
   long hedra_queries = 0;       // contact() calls made by hedra's algorithm
+  int measure_failures = 0;     // pairs the exact reference could not measure (0 expected)
 };
 
 SceneReport run_scene(const SceneSettings& settings);
