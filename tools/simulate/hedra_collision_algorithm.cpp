@@ -2,6 +2,8 @@
 #include "hedra_collision_algorithm.hpp"
 
 #include <atomic>
+#include <cmath>
+#include <utility>
 #include <vector>
 
 namespace hedra::simulate {
@@ -22,32 +24,60 @@ collision::Pose to_pose(const btTransform& t) {
   return p;
 }
 
+// The order in which `r`'s points go into Bullet's manifold: the deepest
+// (hedra's first) and then counter-clockwise around the normal, i.e. around
+// the contact polygon. Bullet's sequential-impulse solver visits a
+// manifold's points in this order; hedra's reduction order (deepest,
+// farthest from it, then the two largest triangles) puts two diagonal
+// corners first, which loads a resting box on one diagonal and, measured
+// over 8 perturbed 10-box stacks, doubled the stack's sideways drift
+// (0.7% of the box size against 0.35% in polygon order).
+void polygon_order(const collision::ContactResult& r, int (&order)[collision::kMaxContactPoints]) {
+  for (int k = 0; k < collision::kMaxContactPoints; ++k) order[k] = k;
+  if (r.count < 3) return;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int k = 0; k < r.count; ++k) centre += r.points[k].point;
+  centre /= r.count;
+  const Eigen::Vector3d u = r.points[0].point - centre;
+  const Eigen::Vector3d v = r.normal.cross(u);
+  double angle[collision::kMaxContactPoints] = {};
+  for (int k = 1; k < r.count; ++k) {
+    const Eigen::Vector3d d = r.points[k].point - centre;
+    angle[k] = std::atan2(d.dot(v), d.dot(u));
+    if (angle[k] < 0.0) angle[k] += 2.0 * M_PI;
+  }
+  for (int k = 2; k < r.count; ++k)  // insertion sort of order[1, count) by angle
+    for (int j = k; j > 1 && angle[order[j]] < angle[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
+}
+
 }  // namespace
 
-bool ShapeCache::get(const btCollisionShape* shape, collision::Shape& out) {
+collision::Pose CachedShape::pose(const btTransform& world) const {
+  collision::Pose p = to_pose(world);
+  p.translation = p.apply(offset);
+  return p;
+}
+
+const CachedShape* ShapeCache::get(const btCollisionShape* shape) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto found = shapes_.find(shape);
-  if (found != shapes_.end()) {
-    out = found->second;
-    return true;
-  }
-  collision::Shape made;
+  if (found != shapes_.end()) return found->second.get();
+  auto made = std::make_unique<CachedShape>();
   if (shape->getShapeType() == BOX_SHAPE_PROXYTYPE) {
     const auto* box = static_cast<const btBoxShape*>(shape);
-    made = collision::Box{to_eigen(box->getHalfExtentsWithMargin())};
+    made->shape = collision::Box{to_eigen(box->getHalfExtentsWithMargin())};
   } else if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
     const auto* hull = static_cast<const btConvexHullShape*>(shape);
     std::vector<Eigen::Vector3d> points;
     for (int i = 0; i < hull->getNumPoints(); ++i) points.push_back(to_eigen(hull->getScaledPoint(i)));
     const auto built = collision::ConvexPolyhedron::build(points);
-    if (!built.ok()) return false;
-    made = collision::Polyhedron{built.polyhedron, hull->getMargin()};
+    if (!built.ok()) return nullptr;
+    made->shape = collision::Polyhedron{built.polyhedron, hull->getMargin()};
+    made->offset = built.polyhedron->offset();
   } else {
-    return false;
+    return nullptr;
   }
-  shapes_.emplace(shape, made);
-  out = made;
-  return true;
+  return shapes_.emplace(shape, std::move(made)).first->second.get();
 }
 
 HedraCollisionAlgorithm::HedraCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
@@ -68,15 +98,18 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
                                                const btDispatcherInfo&, btManifoldResult* result) {
   if (!manifold_) return;
   result->setPersistentManifold(manifold_);
-  collision::Shape sa, sb;
-  if (!shapes_->get(a->getCollisionShape(), sa) || !shapes_->get(b->getCollisionShape(), sb)) return;
+  const CachedShape* sa = shapes_->get(a->getCollisionShape());
+  const CachedShape* sb = shapes_->get(b->getCollisionShape());
+  if (!sa || !sb) return;
   collision::ContactSettings settings;
   settings.contact_distance = manifold_->getContactBreakingThreshold();
-  const collision::ContactResult r =
-      collision::contact(sa, to_pose(a->getWorldTransform()), sb, to_pose(b->getWorldTransform()), &cache_, settings);
+  const collision::ContactResult r = collision::contact(sa->shape, sa->pose(a->getWorldTransform()), sb->shape,
+                                                        sb->pose(b->getWorldTransform()), &cache_, settings);
   ++g_queries;
-  for (int k = 0; k < r.count; ++k) {
-    const collision::ContactPoint& p = r.points[k];
+  int order[collision::kMaxContactPoints];
+  polygon_order(r, order);
+  for (int i = 0; i < r.count; ++i) {
+    const collision::ContactPoint& p = r.points[order[i]];
     const Eigen::Vector3d on_b = p.point - 0.5 * p.depth * r.normal;
     result->addContactPoint(to_bullet(-r.normal), to_bullet(on_b), -p.depth);
     ++g_points;

@@ -11,8 +11,12 @@
 // btBoxShape -> a sharp Box of its outer half extents (with margin, as
 // Bullet's own box-box detector uses them); btConvexHullShape -> a
 // ConvexPolyhedron built once per Bullet shape (scaled points) and cached,
-// rounded by the shape's margin. The speculative contact distance is the
+// rounded by the shape's margin. hedra keeps a hull's vertices relative to
+// its centroid (ConvexPolyhedron::offset()), so the hull is posed at the
+// body's transform applied to that offset. The speculative contact distance is the
 // manifold's contact-breaking threshold. Each pair keeps its ContactCache.
+// Points go into the manifold deepest first, then around the contact
+// polygon (the order Bullet's solver visits them; see polygon_order()).
 #pragma once
 
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
@@ -26,15 +30,25 @@
 
 namespace hedra::simulate {
 
+// A hedra shape for a Bullet shape: `shape` sits at `offset` in the Bullet
+// shape's frame (a hull's centroid; zero for a box).
+struct CachedShape {
+  collision::Shape shape;
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  // The hedra pose of the shape for a Bullet world transform.
+  collision::Pose pose(const btTransform& world) const;
+};
+
 // hedra shapes for Bullet shapes, built once per Bullet shape.
 class ShapeCache {
  public:
-  // False (and `out` untouched) for shapes other than boxes and hulls.
-  bool get(const btCollisionShape* shape, collision::Shape& out);
+  // Null for shapes other than boxes and hulls (and hulls quickhull rejects).
+  // The pointer stays valid as long as the cache.
+  const CachedShape* get(const btCollisionShape* shape);
 
  private:
   std::mutex mutex_;
-  std::map<const btCollisionShape*, collision::Shape> shapes_;
+  std::map<const btCollisionShape*, std::unique_ptr<CachedShape>> shapes_;
 };
 
 class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
