@@ -5,6 +5,7 @@
 #include <cmath>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
+#include <optional>
 #include <utility>
 
 #include "timing.hpp"
@@ -105,20 +106,48 @@ QueryOutcome run_penetration(const collision::Shape& a, const collision::Pose& p
 
 // The contact query: collision::contact() (SAT + clipping for polytopes,
 // dedicated paths for curved shapes, see manifold.hpp), its deepest
-// witnesses as point_a/point_b and its manifold as `contacts`.
+// witnesses as point_a/point_b and its manifold as `contacts`. The format
+// answers a contact query "as penetration": when the manifold finds the pair
+// separated beyond its contact distance (a SAT lower bound, no witnesses),
+// the exact distance and closest points come from collision::penetration(),
+// timed together with the manifold.
 QueryOutcome run_contact(const collision::Shape& a, const collision::Pose& pa, const collision::Shape& b,
                          const collision::Pose& pb, int repeat) {
   QueryOutcome out;
   out.type = QueryType::contact;
-  const collision::ContactResult r = timed(repeat, out.time_ns, [&] { return collision::contact(a, pa, b, pb); });
-  out.status = collision::to_string(r.status);
-  out.intersecting = r.intersecting;
+  struct Answer {
+    collision::ContactResult manifold;
+    std::optional<collision::PenetrationResult> exact;
+  };
+  const Answer r = timed(repeat, out.time_ns, [&] {
+    Answer answer{collision::contact(a, pa, b, pb), std::nullopt};
+    if (answer.manifold.path == collision::ContactPath::separated && answer.manifold.count == 0) {
+      answer.exact = collision::penetration(a, pa, b, pb);
+    }
+    return answer;
+  });
   out.manifold_ran = true;
-  const bool defined = r.status != collision::Status::degenerate && r.status != collision::Status::invalid_input;
+  if (r.exact) {
+    const collision::PenetrationResult& e = *r.exact;
+    out.status = collision::to_string(e.status);
+    out.intersecting = e.intersecting;
+    out.gjk_iterations = e.gjk_iterations;
+    out.epa_iterations = e.epa_iterations;
+    out.epa_ran = e.epa_iterations > 0;
+    out.error_bound = std::isfinite(e.error_bound) ? e.error_bound : 0.0;
+    if (e.status != collision::Status::degenerate && e.status != collision::Status::invalid_input) {
+      set_geometry(out, e.distance, e.normal, e.point_a, e.point_b, true);
+    }
+    return out;
+  }
+  const collision::ContactResult& m = r.manifold;
+  out.status = collision::to_string(m.status);
+  out.intersecting = m.intersecting;
+  const bool defined = m.status != collision::Status::degenerate && m.status != collision::Status::invalid_input;
   if (defined) {
-    set_geometry(out, r.distance, r.normal, r.point_a, r.point_b, true);
-    for (int i = 0; i < r.count; ++i) {
-      const collision::ContactPoint& c = r.points[static_cast<std::size_t>(i)];
+    set_geometry(out, m.distance, m.normal, m.point_a, m.point_b, true);
+    for (int i = 0; i < m.count; ++i) {
+      const collision::ContactPoint& c = m.points[static_cast<std::size_t>(i)];
       if (!finite(c.point) || !std::isfinite(c.depth)) {
         if (out.ok()) out.status = "non_finite";
         continue;
