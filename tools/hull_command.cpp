@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "atomic_file.hpp"
+#include "cli_validators.hpp"
 #include "timing.hpp"
 
 namespace hedra::tool {
@@ -189,18 +190,7 @@ Subcommand add_hull_command(CLI::App& app) {
   command->add_option("input", options->input, "Point file: .xyz (x y z a line), .obj (v lines) or .off")->required();
   command->add_flag("--json", options->json, "Print the result as one JSON document");
   command->add_option("--repeat", options->repeat, "Build the hull N times and report the median build time")
-      ->check(CLI::Validator(
-          [](std::string& value) -> std::string {
-            // CLI11's Range would call "abc" out of range; say what is wrong.
-            int parsed = 0;
-            const char* last = value.data() + value.size();
-            const std::from_chars_result result = std::from_chars(value.data(), last, parsed);
-            if (result.ec != std::errc() || result.ptr != last || parsed < 1 || parsed > kMaxRepeat) {
-              return "expected a whole number from 1 to " + std::to_string(kMaxRepeat) + ", got '" + value + "'";
-            }
-            return std::string();
-          },
-          "1.." + std::to_string(kMaxRepeat), "repeat count"))
+      ->check(whole_number_in(1, kMaxRepeat, "repeat count"))
       ->type_name("N");
   CLI::Option* out_option =
       command->add_option("--out", options->out, "Write the hull as a Wavefront OBJ file (atomically)")

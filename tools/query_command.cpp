@@ -17,7 +17,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_validators.hpp"
 #include "scene_runner.hpp"
+#include "timing.hpp"
 
 namespace hedra::tool {
 
@@ -93,18 +95,6 @@ std::string format_vector(const std::optional<Eigen::Vector3d>& v) {
   return text;
 }
 
-std::string format_time(double ns) {
-  char text[32];
-  if (ns < 1e4) {
-    std::snprintf(text, sizeof text, "%.0f ns", ns);
-  } else if (ns < 1e7) {
-    std::snprintf(text, sizeof text, "%.1f us", ns / 1e3);
-  } else {
-    std::snprintf(text, sizeof text, "%.1f ms", ns / 1e6);
-  }
-  return text;
-}
-
 std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcome>& outcomes,
                         const QueryOptions& options) {
   const Scene& scene = *loaded.scene;
@@ -167,17 +157,7 @@ Subcommand add_query_command(CLI::App& app) {
   command->add_option("scene", options->scene, "Scene file (JSON, see the README)")->required();
   command->add_flag("--json", options->json, "Print the results as one JSON document");
   command->add_option("--repeat", options->repeat, "Run each query N times and report the median time")
-      ->check(CLI::Validator(
-          [](std::string& value) -> std::string {
-            int parsed = 0;
-            const char* last = value.data() + value.size();
-            const std::from_chars_result result = std::from_chars(value.data(), last, parsed);
-            if (result.ec != std::errc() || result.ptr != last || parsed < 1 || parsed > kMaxRepeat) {
-              return "expected a whole number from 1 to " + std::to_string(kMaxRepeat) + ", got '" + value + "'";
-            }
-            return std::string();
-          },
-          "1.." + std::to_string(kMaxRepeat), "repeat count"))
+      ->check(whole_number_in(1, kMaxRepeat, "repeat count"))
       ->type_name("N");
   command->add_flag("--stats", options->stats,
                     "Also report which stages ran per query and which shapes were built per scene");

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 namespace hedra::tool {
@@ -25,6 +27,19 @@ inline double median(std::vector<double> samples) {
   if (samples.size() % 2 == 1) return upper;
   const double lower = *std::max_element(samples.begin(), samples.begin() + middle);
   return lower + (upper - lower) / 2;
+}
+
+// A duration for a person: "850 ns", "12.3 us" or "4.5 ms".
+inline std::string format_time(double ns) {
+  char text[32];
+  if (ns < 1e4) {
+    std::snprintf(text, sizeof text, "%.0f ns", ns);
+  } else if (ns < 1e7) {
+    std::snprintf(text, sizeof text, "%.1f us", ns / 1e3);
+  } else {
+    std::snprintf(text, sizeof text, "%.1f ms", ns / 1e6);
+  }
+  return text;
 }
 
 }  // namespace hedra::tool

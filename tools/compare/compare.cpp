@@ -376,19 +376,6 @@ bool split(const QueryComparison& q, std::string& right, std::string& wrong) {
   return !right.empty() && !wrong.empty();
 }
 
-std::string format_time(double ns) {
-  char text[32];
-  if (ns <= 0.0) return "-";
-  if (ns < 1e4) {
-    std::snprintf(text, sizeof text, "%.0f ns", ns);
-  } else if (ns < 1e7) {
-    std::snprintf(text, sizeof text, "%.1f us", ns / 1e3);
-  } else {
-    std::snprintf(text, sizeof text, "%.1f ms", ns / 1e6);
-  }
-  return text;
-}
-
 std::string short_vector(const std::optional<Eigen::Vector3d>& v) {
   if (!v) return "-";
   char text[96];
@@ -407,7 +394,7 @@ void text_row(std::string& text, const JudgedAnswer& j, bool peer) {
                 distance.c_str(), optional_number(j.judgement.distance_error).c_str(),
                 optional_number(j.judgement.normal_angle).c_str(),
                 peer ? optional_number(j.normal_angle_to_hedra).c_str() : "", short_vector(a.point_a).c_str(),
-                short_vector(a.point_b).c_str(), format_time(a.time_ns).c_str());
+                short_vector(a.point_b).c_str(), (a.time_ns > 0.0 ? format_time(a.time_ns) : std::string("-")).c_str());
   text += line;
 }
 

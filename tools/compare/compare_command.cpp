@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "cli_validators.hpp"
 #include "compare/compare.hpp"
 
 namespace hedra::tool {
@@ -52,17 +53,7 @@ Subcommand add_compare_command(CLI::App& app) {
   command->add_option("scene", options->scene, "Scene file (JSON, see the README)")->required();
   command->add_flag("--json", options->json, "Print the comparison as one JSON document");
   command->add_option("--repeat", options->repeat, "Run each method N times per query and report the median time")
-      ->check(CLI::Validator(
-          [](std::string& value) -> std::string {
-            int parsed = 0;
-            const char* last = value.data() + value.size();
-            const std::from_chars_result result = std::from_chars(value.data(), last, parsed);
-            if (result.ec != std::errc() || result.ptr != last || parsed < 1 || parsed > kMaxRepeat) {
-              return "expected a whole number from 1 to " + std::to_string(kMaxRepeat) + ", got '" + value + "'";
-            }
-            return std::string();
-          },
-          "1.." + std::to_string(kMaxRepeat), "repeat count"))
+      ->check(whole_number_in(1, kMaxRepeat, "repeat count"))
       ->type_name("N");
   command
       ->add_option("--peer-timeout", options->peer_timeout,
