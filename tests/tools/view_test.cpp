@@ -528,6 +528,9 @@ TEST(ViewCli, BadInputExitsTwoAndLeavesNothing) {
   if (!tool::view::three_js_available()) return;
   std::ofstream(dir.path() / "bad.xyz") << "0 0 0\n1 2\n";
   expect_bad({HEDRA_EXE, "view", "--hull", (dir.path() / "bad.xyz").string(), "-o", page.string()}, "bad.xyz:2");
+  // Coordinates the hull builder refuses (spans over 1e60) are bad input, not an empty page.
+  std::ofstream(dir.path() / "huge.xyz") << "0 0 0\n1e61 0 0\n0 1 0\n0 0 1\n";
+  expect_bad({HEDRA_EXE, "view", "--hull", (dir.path() / "huge.xyz").string(), "-o", page.string()}, "1e60");
   expect_bad({HEDRA_EXE, "view", (dir.path() / "missing.json").string(), "-o", page.string()}, "missing.json");
   expect_bad({HEDRA_EXE, "view", "--hull", kDemoPoints, "-o", (dir.path() / "no/such/dir/page.html").string()},
              "page.html");

@@ -125,6 +125,7 @@ std::optional<ViewModel> build_hull_view_model(const std::string& input, std::st
       break;
     case hull::QuickhullStatus::empty_input:
     case hull::QuickhullStatus::non_finite_input:
+    case hull::QuickhullStatus::out_of_range_input:
       error = input + ": " + result.error;
       return std::nullopt;
     case hull::QuickhullStatus::iteration_limit:
