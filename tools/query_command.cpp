@@ -69,6 +69,7 @@ std::string format_json(const LoadedScene& loaded, const std::vector<QueryOutcom
                     {"gjk_iterations", o.gjk_iterations},
                     {"epa_ran", o.epa_ran},
                     {"epa_iterations", o.epa_iterations},
+                    {"support_calls", o.support_calls},
                     {"manifold_ran", o.manifold_ran},
                     {"error_bound", o.error_bound}};
     }
@@ -123,10 +124,11 @@ std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcom
     text += line;
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
       const QueryOutcome& o = outcomes[i];
-      std::snprintf(line, sizeof line, "  #%zu %s: gjk %d iteration%s, %s, %s, error bound %.3g\n", i,
-                    to_string(o.type), o.gjk_iterations, o.gjk_iterations == 1 ? "" : "s",
+      std::snprintf(line, sizeof line, "  #%zu %s: gjk %d iteration%s, %s, %d support call%s, %s, error bound %.3g\n",
+                    i, to_string(o.type), o.gjk_iterations, o.gjk_iterations == 1 ? "" : "s",
                     o.epa_ran ? ("epa " + std::to_string(o.epa_iterations) + " iterations").c_str() : "no epa",
-                    o.manifold_ran ? "manifold" : "no manifold", o.error_bound);
+                    o.support_calls, o.support_calls == 1 ? "" : "s", o.manifold_ran ? "manifold" : "no manifold",
+                    o.error_bound);
       text += line;
     }
   }

@@ -62,6 +62,7 @@ QueryOutcome run_intersect(const collision::Shape& a, const collision::Pose& pa,
   out.status = collision::to_string(r.status);
   out.intersecting = r.intersecting;
   out.gjk_iterations = r.iterations;
+  out.support_calls = r.support_calls;
   return out;
 }
 
@@ -73,6 +74,7 @@ QueryOutcome run_distance(const collision::Shape& a, const collision::Pose& pa, 
   out.status = collision::to_string(r.status);
   out.intersecting = r.intersecting;
   out.gjk_iterations = r.iterations;
+  out.support_calls = r.support_calls;
   out.error_bound = std::isfinite(r.error_bound) ? r.error_bound : 0.0;
   // The normal and closest points are defined only between separated
   // shapes (DistanceResult: valid when ok and not intersecting).
@@ -91,6 +93,7 @@ QueryOutcome run_penetration(const collision::Shape& a, const collision::Pose& p
   out.intersecting = r.intersecting;
   out.gjk_iterations = r.gjk_iterations;
   out.epa_iterations = r.epa_iterations;
+  out.support_calls = r.support_calls;
   // PenetrationResult reports EPA only through its iteration count, so this
   // reads "EPA expanded": an EPA entered on touching cores that answers from
   // a flat GJK simplex without one expansion shows as not run.
@@ -133,6 +136,7 @@ QueryOutcome run_contact(const collision::Shape& a, const collision::Pose& pa, c
     out.intersecting = e.intersecting;
     out.gjk_iterations = e.gjk_iterations;
     out.epa_iterations = e.epa_iterations;
+    out.support_calls = e.support_calls;
     out.epa_ran = e.epa_iterations > 0;
     out.error_bound = std::isfinite(e.error_bound) ? e.error_bound : 0.0;
     if (e.status != collision::Status::degenerate && e.status != collision::Status::invalid_input) {

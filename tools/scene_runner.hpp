@@ -48,6 +48,9 @@ struct QueryOutcome {
   // contact.
   int gjk_iterations = 0;
   int epa_iterations = 0;
+  // Support evaluations of the pair in GJK and EPA (A's and B's count one;
+  // a contact query's SAT lookups on polytopes are not counted).
+  int support_calls = 0;
   bool epa_ran = false;
   bool manifold_ran = false;
   double time_ns = 0.0;  // median over the repetitions, excluding parsing and building

@@ -118,6 +118,7 @@ IntersectResult intersect_typed(const SA& a, const Pose& pose_a, const SB& b, co
   out.status = to_status(g.status);
   out.intersecting = g.status == GjkStatus::ok && g.intersecting;
   out.iterations = g.iterations;
+  out.support_calls = g.support_calls;
   return out;
 }
 
@@ -132,6 +133,7 @@ DistanceResult distance_typed(const SA& a, const Pose& pose_a, const SB& b, cons
   DistanceResult out;
   out.status = to_status(g.status);
   out.iterations = g.iterations;
+  out.support_calls = g.support_calls;
   out.error_bound = g.error_bound;
   if (g.status == GjkStatus::degenerate) return out;
   const double radii = p.radius_a + p.radius_b;
@@ -180,6 +182,7 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
   PenetrationResult out;
   out.status = to_status(g.status);
   out.gjk_iterations = g.iterations;
+  out.support_calls = g.support_calls;
   if (g.status == GjkStatus::degenerate) return out;
   // The cores' signed distance, normal (A's core frame) and witnesses:
   // GJK's when the cores are clearly apart, EPA's when they overlap or touch.
@@ -203,6 +206,7 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
         !revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation, settings.epa, e))
       e = epa_penetration(p.core_a, placed_b, g.simplex, p.scale, p.relative.translation, settings.epa);
     out.epa_iterations = e.iterations;
+    out.support_calls += e.support_calls;
     // Overlap possible: the signed answer, whatever its status. Touching
     // from outside (GJK certifies a separation, but not above the band),
     // GJK's answer is valid too: EPA's replaces it when it converged and

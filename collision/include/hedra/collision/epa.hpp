@@ -139,7 +139,8 @@ struct EpaResult {
   // Certified in exact arithmetic: |true signed depth - depth| <= error_bound.
   double error_bound = 0.0;
   int iterations = 0;
-  int dimension = 3;  // affine dimension of D seen: 3, or 0..2 when D is flat (then depth = 0)
+  int support_calls = 0;  // evaluations of the Minkowski difference's support
+  int dimension = 3;      // affine dimension of D seen: 3, or 0..2 when D is flat (then depth = 0)
 };
 
 namespace epa_detail {
@@ -609,6 +610,7 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
     double best_height = -1.0;
     for (int i = 0; i < count; ++i) {
       const Vertex s = epa_detail::support(a, b, dirs[i]);
+      ++r.support_calls;
       if (!epa_detail::finite(s)) {
         r.status = EpaStatus::degenerate;
         return r;
@@ -652,6 +654,7 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
     }
     ++r.iterations;
     const Vertex s = epa_detail::support(a, b, f.n);
+    ++r.support_calls;
     if (!epa_detail::finite(s)) {
       // Why: a support mapping returned NaN/inf (corrupt shape or pose).
       r.status = EpaStatus::degenerate;
@@ -704,6 +707,7 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
         // curved D a face of the band may not have been tested yet): one
         // support call decides.
         const Vertex sg = epa_detail::support(a, b, fg.n);
+        ++r.support_calls;
         if (!epa_detail::finite(sg) || fg.n.dot(sg.w) - fg.d > band - chosen->d) continue;
         chosen = &fg;
         lambda = lg;

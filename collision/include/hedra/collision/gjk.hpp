@@ -126,6 +126,7 @@ struct GjkResult {
   double lower_bound = 0.0;                     // certified: true distance >= lower_bound
   double error_bound = 0.0;                     // distance - lower_bound (duality gap / |v|)
   int iterations = 0;
+  int support_calls = 0;  // evaluations of the Minkowski difference's support (one per iteration, plus the first)
   GjkSimplex simplex;
 };
 
@@ -343,6 +344,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
   GjkSimplex& s = r.simplex;
   s.a[0] = a.support(-axis);
   s.b[0] = b.support(axis);
+  r.support_calls = 1;
   s.w[0] = s.a[0] - s.b[0];
   if (!s.w[0].allFinite()) {
     // Why: NaN/inf parameters or poses; every output stays zero.
@@ -368,6 +370,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     ++r.iterations;
     const Eigen::Vector3d pa = a.support(-v);
     const Eigen::Vector3d pb = b.support(v);
+    ++r.support_calls;
     const Eigen::Vector3d w = pa - pb;
     if (!w.allFinite()) {
       r.status = GjkStatus::degenerate;

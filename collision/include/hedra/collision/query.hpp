@@ -61,6 +61,7 @@ struct IntersectResult {
   Status status = Status::ok;
   bool intersecting = false;  // meaningful only when status == ok
   int iterations = 0;
+  int support_calls = 0;  // support evaluations of the pair (A's and B's together count one)
 };
 
 struct DistanceResult {
@@ -76,6 +77,7 @@ struct DistanceResult {
   // Certified upper bound on (distance - true distance), from the duality gap.
   double error_bound = 0.0;
   int iterations = 0;
+  int support_calls = 0;  // support evaluations of the pair (A's and B's together count one)
 };
 
 // `cache` (optional): per-pair warm start, updated by the call. Keep one per
@@ -120,6 +122,7 @@ struct PenetrationResult {
   double error_bound = 0.0;
   int gjk_iterations = 0;
   int epa_iterations = 0;  // 0 when EPA did not run
+  int support_calls = 0;   // support evaluations of the pair, GJK's and EPA's
 };
 
 PenetrationResult penetration(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
