@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_command.hpp"
 #include "check_command.hpp"
 #include "command.hpp"
 #include "compare/compare_command.hpp"
@@ -30,11 +31,8 @@ using AddSubcommand = hedra::tool::Subcommand (*)(CLI::App&);
 
 // One line per subcommand.
 constexpr AddSubcommand kSubcommands[] = {
-    &hedra::tool::add_hull_command,
-    &hedra::tool::add_query_command,
-    &hedra::tool::add_check_command,
-    &hedra::tool::add_view_command,
-    &hedra::tool::add_compare_command,
+    &hedra::tool::add_hull_command, &hedra::tool::add_query_command,   &hedra::tool::add_check_command,
+    &hedra::tool::add_view_command, &hedra::tool::add_compare_command, &hedra::tool::add_bench_command,
 };
 
 int run(int argc, char** argv) {
