@@ -85,6 +85,18 @@ TEST(BenchWorkloads, ExtremeFamiliesSweepTheirParameterOverDecades) {
     EXPECT_NEAR(c.pose_a.translation.norm(), c.parameter, 1e-9 * c.parameter) << c.label;
 }
 
+// Regression: the kind of pair was once tied to the parameter (every offset
+// of `far` all apart or all deep). Each parameter value must meet both.
+TEST(BenchWorkloads, EveryParameterValueMeetsBothOutcomes) {
+  WorkloadOptions full;
+  for (const char* family : {"far", "scale", "parallel", "thin"}) {
+    std::map<double, std::set<bool>> outcomes;
+    for (const BenchCase& c : make_family(family, full).cases)
+      outcomes[c.parameter].insert(c.reference.exact.distance < 0);
+    for (const auto& [parameter, seen] : outcomes) EXPECT_EQ(seen.size(), 2u) << family << " at " << parameter;
+  }
+}
+
 TEST(BenchWorkloads, TheSeedDecidesTheCases) {
   const FamilyCases a = make_family("poly-penetrating", quick(7)), b = make_family("poly-penetrating", quick(7));
   const FamilyCases c = make_family("poly-penetrating", quick(8));
