@@ -183,7 +183,16 @@ CaseResult judge_case(const BenchCase& c, const Method& method, MethodAnswer ans
   r.tolerance = reference.tolerance;
   r.judgement = judge(QueryType::penetration, reference, answer);
   if (r.judgement.distance_error) {
-    r.abs_error = *r.judgement.distance_error;
+    // The error is the distance from the answer to the reference's
+    // certified interval [lower, upper]: a point for polytopes, about 1e-12
+    // of the size wide for curved pairs, wider where the reference's
+    // inscribed polygons cannot resolve a ring of equal depths (nearly
+    // coaxial cylinders and cones: up to 1e-2). An answer inside it is
+    // counted exact, since nothing finer is known.
+    const double d = *answer.distance;
+    r.abs_error = d < reference.exact.lower   ? reference.exact.lower - d
+                  : d > reference.exact.upper ? d - reference.exact.upper
+                                              : 0.0;
     r.rel_error = reference.pair_size > 0 ? *r.abs_error / reference.pair_size : *r.abs_error;
   }
   switch (r.judgement.verdict) {

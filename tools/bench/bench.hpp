@@ -23,7 +23,8 @@
 // forked children under a watchdog (isolation.hpp), one batch per family
 // and method, so a crash or a hang costs one case, never the run.
 //
-// Errors: absolute |d - sd| against the reference's signed distance sd;
+// Errors: absolute, the distance from d to the reference's certified
+// interval [lower, upper] (|d - sd| for polytopes, where it is a point);
 // relative = absolute / the pair's size (the larger bounding radius, as
 // `hedra compare` measures it). Normal angles where the reference says the
 // normal is unique.

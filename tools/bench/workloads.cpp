@@ -261,9 +261,15 @@ struct Generator {
       case 7:
         label = "cone and hull";
         return {primitive(collision::Cone{0.6, 0.7, 0.0}), random_poly(rng)};
-      default:
+      case 8:
         label = "rounded box and rounded hull";
         return {box(Vec(0.7, 0.5, 0.4), 0.1), ellipsoid_hull(rng, 24, Vec(0.8, 0.7, 0.6), 0.1)};
+      case 9:
+        label = "cylinder in a cylinder, axes nearly parallel";
+        return {primitive(collision::Cylinder{0.5, 0.7, 0.0}), primitive(collision::Cylinder{0.4, 0.6, 0.0})};
+      default:
+        label = "cone and cylinder, axes nearly parallel";
+        return {primitive(collision::Cone{0.5, 0.7, 0.0}), primitive(collision::Cylinder{0.4, 0.6, 0.0})};
     }
   }
 
@@ -274,7 +280,12 @@ struct Generator {
     const Mat rotation_a = rng.rotation();
     // Identical shapes share the pose too: exactly coincident at fraction 0.
     const bool same = label.find("itself") != std::string::npos;
-    const Mat rotation_b = same ? rotation_a : rng.rotation();
+    // Nearly coaxial curved pairs: B's axis turned 1e-10 .. 1e-3 rad off A's
+    // (where the depth is almost the same over a circle of directions).
+    const bool coaxial = label.find("nearly parallel") != std::string::npos;
+    const Mat rotation_b = same      ? rotation_a
+                           : coaxial ? Mat(rotation_a * about(rng.unit(), rng.log_uniform(1e-10, 1e-3)))
+                                     : rng.rotation();
     const Vec t = rng.unit() * fraction * std::max(a.radius, b.radius);
     BenchCase c = make_case(family, label + (fraction == 0 ? ", coincident" : ", centres apart"), a,
                             Pose{rotation_a, Vec::Zero()}, b, Pose{rotation_b, t});
@@ -553,7 +564,7 @@ Plan plan_for(const std::string& family, bool quick) {
   if (family == "touching") return {{}, 5, quick ? 5 : 100};
   if (family == "deep") {
     std::vector<double> f = {0.0, 1e-4, 1e-3, 1e-2, 1e-1, 0.3};
-    return {f, 9, quick ? 6 : 216};
+    return {f, 11, quick ? 6 : 264};
   }
   if (family == "parallel") return {decades(-9, -4), 2, quick ? 6 : 192};
   if (family == "thin") return {decades(2, 4), 4, quick ? 6 : 144};
@@ -576,7 +587,8 @@ const std::vector<FamilyInfo>& families() {
       {"poly-separated", "", "hulls of 8-64 vertices, apart by 1e-3 .. 1 of their size"},
       {"poly-penetrating", "", "hulls of 8-64 vertices, overlapping by 1e-3 .. 0.3 of their size"},
       {"touching", "", "signed distance 0: vertex on face, face on face, edge on face, corner on face, crossed edges"},
-      {"deep", "centre offset / size", "coincident and deep pairs of every kind of shape"},
+      {"deep", "centre offset / size",
+       "coincident and deep pairs of every kind of shape, nearly coaxial cylinders and cones among them"},
       {"parallel", "angle (rad)", "faces 1e-9 .. 1e-4 rad from parallel, 1e-3 apart or overlapping"},
       {"thin", "aspect ratio", "plates and needles of aspect 1e2 .. 1e4"},
       {"scale", "size ratio", "a hull 1e-3 .. 1e3 across against one 2e3 across"},
