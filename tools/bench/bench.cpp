@@ -182,17 +182,19 @@ CaseResult judge_case(const BenchCase& c, const Method& method, MethodAnswer ans
   CaseResult r;
   r.tolerance = reference.tolerance;
   r.judgement = judge(QueryType::penetration, reference, answer);
-  if (r.judgement.distance_error) {
-    // The error is the distance from the answer to the reference's
-    // certified interval [lower, upper]: a point for polytopes, about 1e-12
-    // of the size wide for curved pairs, wider where the reference's
-    // inscribed polygons cannot resolve a ring of equal depths (nearly
-    // coaxial cylinders and cones: up to 1e-2). An answer inside it is
-    // counted exact, since nothing finer is known.
+  // Failed answers that still carry a distance (hedra's best so far at a
+  // cap) are measured too: they count as failures all the same.
+  if (answer.distance && std::isfinite(*answer.distance)) {
+    // The error: |d - sd| for polytope cores (the reference is exact up to
+    // its rounding, error_bound, about 1e-14 of the size); for curved pairs
+    // the distance from d to the reference's certified bracket [lower,
+    // upper], about 1e-12 of the size wide, wider where the inscribed
+    // polygons cannot resolve a ring of equal depths (nearly coaxial
+    // cylinders and cones: up to 1e-2). An answer inside the bracket counts
+    // as exact, since nothing finer is known.
     const double d = *answer.distance;
-    r.abs_error = d < reference.exact.lower   ? reference.exact.lower - d
-                  : d > reference.exact.upper ? d - reference.exact.upper
-                                              : 0.0;
+    const reference::ExactResult& e = reference.exact;
+    r.abs_error = !e.curved ? std::abs(d - e.distance) : d < e.lower ? e.lower - d : d > e.upper ? d - e.upper : 0.0;
     r.rel_error = reference.pair_size > 0 ? *r.abs_error / reference.pair_size : *r.abs_error;
   }
   switch (r.judgement.verdict) {

@@ -23,8 +23,9 @@
 // forked children under a watchdog (isolation.hpp), one batch per family
 // and method, so a crash or a hang costs one case, never the run.
 //
-// Errors: absolute, the distance from d to the reference's certified
-// interval [lower, upper] (|d - sd| for polytopes, where it is a point);
+// Errors: absolute, |d - sd| for polytope cores (exact up to rounding),
+// for curved pairs the distance from d to the reference's certified
+// bracket [lower, upper];
 // relative = absolute / the pair's size (the larger bounding radius, as
 // `hedra compare` measures it). Normal angles where the reference says the
 // normal is unique.

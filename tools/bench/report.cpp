@@ -149,9 +149,10 @@ std::string markdown_report(const BenchReport& report, const RunInfo& info) {
   md << "- run time: " << fmt("%.0f", report.elapsed_seconds) << " s (timing and judging; references before)\n";
   md << "- peers: " << (report.peers_built ? "built" : "not built (HEDRA_WITH_PEERS=OFF): hedra only") << "\n\n";
 
-  md << "Errors are against the exact reference (the Minkowski-difference hull, qhull): the distance from the "
-        "answer to the reference's certified interval (a point for polytopes); relative = absolute / the pair's "
-        "size. Times are per query: the median over timed loops per case, then the median (p99) over "
+  md << "Errors are against the exact reference (the Minkowski-difference hull, qhull): |answer - reference| "
+        "for polytopes, the distance from the answer to the reference's certified bracket for curved pairs; "
+        "relative = absolute / the pair's size. Times are per query: the median over timed loops per case, then the "
+        "median (p99) over "
         "the family's cases. A failure is a wrong intersecting verdict, an error above the tolerance "
         "(the reference's bound + max(fail tolerance, 2 x requested tolerance) x size), a normal off a unique "
         "reference normal by more than 1e-3 rad (judged where 2 x requested <= fail tolerance), a NaN, a crash or "
