@@ -59,7 +59,7 @@ std::string vector_text(const Eigen::Vector3d& v) {
   return "[" + shortest(v[0]) + ", " + shortest(v[1]) + ", " + shortest(v[2]) + "]";
 }
 
-bool finite_nonzero(const Eigen::Vector3d& v) { return v.allFinite() && v.squaredNorm() > 0.0; }
+[[maybe_unused]] bool finite_nonzero(const Eigen::Vector3d& v) { return v.allFinite() && v.squaredNorm() > 0.0; }
 
 }  // namespace
 
