@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "progress.hpp"
 #include "scene_runner.hpp"
 
 namespace hedra::tool {
@@ -94,8 +95,10 @@ bool compare(const QueryOutcome& o, const Expectation& e, double default_distanc
 int run_check(const CheckOptions& options, std::string& out, std::ostream& err) {
   // Everything is read and built before anything runs: a bad file anywhere
   // fails the whole command with nothing on stdout.
+  Progress progress("hedra check");  // stderr, only for work longer than a couple of seconds
   std::vector<LoadedScene> scenes;
   for (const std::string& path : options.scenes) {
+    progress.stage("reading " + path + " and building its shapes");
     std::string error;
     std::optional<LoadedScene> loaded = prepare_scene(path, error);
     if (!loaded) {
@@ -107,11 +110,15 @@ int run_check(const CheckOptions& options, std::string& out, std::ostream& err) 
 
   int passed = 0;
   int failed = 0;
+  std::size_t query_count = 0;
+  for (const LoadedScene& loaded : scenes) query_count += loaded.scene->queries.size();
+  progress.stage("running queries", query_count);
   for (const LoadedScene& loaded : scenes) {
     const Scene& scene = *loaded.scene;
     for (std::size_t i = 0; i < scene.queries.size(); ++i) {
       const QuerySpec& q = scene.queries[i];
       const QueryOutcome o = run_query(loaded.built, i);
+      progress.advance();
       std::string detail;
       bool pass = o.ok();
       if (!o.ok()) detail = "status " + o.status + " (expected ok)";
@@ -131,9 +138,9 @@ int run_check(const CheckOptions& options, std::string& out, std::ostream& err) 
              scene.bodies[q.a].name + "-" + scene.bodies[q.b].name + " " + to_string(q.type) + ": " + detail + "\n";
     }
   }
-  out += std::to_string(passed + failed) + (passed + failed == 1 ? " query in " : " queries in ") + std::to_string(scenes.size()) +
-         (scenes.size() == 1 ? " scene: " : " scenes: ") + std::to_string(passed) + " passed, " +
-         std::to_string(failed) + " failed\n";
+  out += std::to_string(passed + failed) + (passed + failed == 1 ? " query in " : " queries in ") +
+         std::to_string(scenes.size()) + (scenes.size() == 1 ? " scene: " : " scenes: ") + std::to_string(passed) +
+         " passed, " + std::to_string(failed) + " failed\n";
   return failed == 0 ? kExitOk : kExitCheckFailed;
 }
 

@@ -26,6 +26,7 @@
 
 #include "atomic_file.hpp"
 #include "cli_validators.hpp"
+#include "progress.hpp"
 #include "timing.hpp"
 
 namespace hedra::tool {
@@ -114,6 +115,8 @@ std::string format_text(const HullOptions& options, const hull::QuickhullResult&
 }
 
 int run_hull(const HullOptions& options, std::string& out, std::ostream& err) {
+  Progress progress("hedra hull");  // stderr, only for work longer than a couple of seconds
+  progress.stage("reading " + options.input);
   const hull::ReadPointsResult read = hull::read_points(options.input);
   if (!read.ok()) {
     err << read.error->message() << "\n";
@@ -131,6 +134,9 @@ int run_hull(const HullOptions& options, std::string& out, std::ostream& err) {
     }
   }
 
+  progress.stage(
+      "building the hull of " + std::to_string(points.size()) + " points" + (options.repeat > 1 ? ", build" : ""),
+      options.repeat > 1 ? static_cast<std::size_t>(options.repeat) : 0);
   hull::QuickhullBuilder builder;
   hull::QuickhullResult result;
   std::vector<double> times;
@@ -141,6 +147,7 @@ int run_hull(const HullOptions& options, std::string& out, std::ostream& err) {
     const Clock::time_point stop = Clock::now();
     times.push_back(elapsed_ns(start, stop));
     result = std::move(built);  // the previous result is freed outside the timed span
+    progress.advance();
     if (!result.ok()) break;
   }
 
@@ -160,6 +167,8 @@ int run_hull(const HullOptions& options, std::string& out, std::ostream& err) {
       return kExitInternalError;
   }
 
+  progress.stage("measuring the hull of " + std::to_string(result.mesh.vertex_count()) + " vertices against " +
+                 std::to_string(points.size()) + " points");
   HullReport report;
   report.input_count = points.size();
   report.repeat = options.repeat;
@@ -169,6 +178,7 @@ int run_hull(const HullOptions& options, std::string& out, std::ostream& err) {
   report.time_ns = median(times);
 
   if (out_file) {
+    progress.stage("writing " + options.out);
     std::ostringstream obj;
     hull::write_obj(result.mesh, obj, options.triangulate);
     std::string error;
@@ -178,6 +188,7 @@ int run_hull(const HullOptions& options, std::string& out, std::ostream& err) {
     }
   }
 
+  progress.stage("formatting the output");
   out = options.json ? format_json(result.mesh, report) : format_text(options, result, report);
   return kExitOk;
 }

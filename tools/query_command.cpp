@@ -18,6 +18,7 @@
 #include <string>
 
 #include "cli_validators.hpp"
+#include "progress.hpp"
 #include "scene_runner.hpp"
 #include "timing.hpp"
 
@@ -136,6 +137,8 @@ std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcom
 }
 
 int run_query_command(const QueryOptions& options, std::string& out, std::ostream& err) {
+  Progress progress("hedra query");  // stderr, only for work longer than a couple of seconds
+  progress.stage("reading " + options.scene + " and building its shapes");
   std::string error;
   std::optional<LoadedScene> loaded = prepare_scene(options.scene, error);
   if (!loaded) {
@@ -144,9 +147,12 @@ int run_query_command(const QueryOptions& options, std::string& out, std::ostrea
   }
   std::vector<QueryOutcome> outcomes;
   outcomes.reserve(loaded->scene->queries.size());
+  progress.stage("running queries", loaded->scene->queries.size());
   for (std::size_t i = 0; i < loaded->scene->queries.size(); ++i) {
     outcomes.push_back(run_query(loaded->built, i, options.repeat));
+    progress.advance();
   }
+  progress.stage("formatting the output");
   out = options.json ? format_json(*loaded, outcomes, options.stats) : format_text(*loaded, outcomes, options);
   return kExitOk;
 }

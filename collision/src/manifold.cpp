@@ -705,7 +705,9 @@ ContactResult contact_typed(const Shape& shape_a, const SA& a, const Pose& pose_
 
 ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
                       const ContactSettings& settings) {
-  if (!pose_a.finite() || !pose_b.finite() || !validate(a).ok() || !validate(b).ok() ||
+  // valid(), not only finite(): translations beyond max_coordinate are invalid in
+  // every query (found by fuzzing: a box at x = 1.9e230 answered ok, "separated").
+  if (!pose_a.valid() || !pose_b.valid() || !validate(a).ok() || !validate(b).ok() ||
       !std::isfinite(settings.contact_distance)) {
     ContactResult out;
     out.status = Status::invalid_input;

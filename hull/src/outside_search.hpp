@@ -62,9 +62,22 @@ class OutsideSearch {
     const Eigen::Vector3d rel = p - c_;
     if (rel.norm() < inner_) return {kInvalidIndex, 0.0};
     if (cell_face_.empty()) build_cube_map();
-    const Index face = climb(cell_face_[cell_of(rel)], rel);
+    Index face = climb(cell_face_[cell_of(rel)], rel);
     double best_d = distance(face, p);
-    if (!(best_d > 0)) return {kInvalidIndex, 0.0};
+    if (!(best_d > 0)) {
+      // The exit face comes from a ratio whose denominator h_f is tiny for
+      // the faces of a thin hull (c lies within ~1e-10 of them): rounding can
+      // then pick a neighbour of the true exit face, one the ray grazes and p
+      // is behind, while p is outside the true one (found by fuzzing: a
+      // wedge 7e-10 thick, a point 1.3e-8 outside its end face reported as
+      // inside). The true exit face is across an edge of the chosen one, so
+      // its ring decides.
+      a_.for_each_neighbor(face, [&](Index nb) {
+        const double d = distance(nb, p);
+        if (d > best_d) best_d = d, face = nb;
+      });
+      if (!(best_d > 0)) return {kInvalidIndex, 0.0};
+    }
     Index best = face;
     if (++round_ == 0) std::fill(stamp_.begin(), stamp_.end(), 0), round_ = 1;
     stack_.assign(1, face);

@@ -45,6 +45,13 @@ namespace {
 using Vec3 = Eigen::Vector3d;
 constexpr double kDblEps = std::numeric_limits<double>::epsilon();
 
+// A span for a message, at the precision that shows why it was rejected.
+std::string format_extent(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
 enum class Mark : std::uint8_t { alive, visible, deleted };
 
 struct WorkEdge {
@@ -776,6 +783,18 @@ QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std:
       r.error = "points " + std::to_string(extreme[2 * axis]) + " and " + std::to_string(extreme[2 * axis + 1]) +
                 " are more than 1e60 apart along " + "xyz"[axis] +
                 " (hull computations multiply coordinate differences and would overflow)";
+      return r;
+    }
+  }
+  {
+    int axis = 0;
+    const double widest = (hi - lo).maxCoeff(&axis);
+    if (widest > 0.0 && widest < min_input_extent) {
+      r.status = QuickhullStatus::out_of_range_input;
+      r.error = "the points span only " + format_extent(widest) + " (points " + std::to_string(extreme[2 * axis]) +
+                " and " + std::to_string(extreme[2 * axis + 1]) + " along " + "xyz"[axis] +
+                ", the widest axis), less than 1e-60: hull computations multiply coordinate differences and would "
+                "underflow";
       return r;
     }
   }

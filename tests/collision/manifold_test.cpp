@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <hedra/collision/manifold.hpp>
+#include <limits>
 #include <random>
 
 #include "allocation_counter.hpp"
@@ -340,6 +341,30 @@ TEST(Manifold, SphereOnABoxGivesOnePoint) {
   ASSERT_EQ(r.count, 1);
   EXPECT_NEAR(r.points[0].depth, 0.05, 1e-9);
   EXPECT_NEAR((r.point_a - Vec(0.2, 0.1, 1.0)).norm(), 0.0, 1e-9);
+}
+
+// Root cause (found by fuzzing): contact() checked its poses with finite()
+// where every other query uses valid(), which also bounds translations by
+// max_coordinate; a box at x = 1.9e230 against a hull answered ok with a SAT
+// separation of 1.9e230 where penetration() said invalid_input.
+TEST(Manifold, TranslationsBeyondMaxCoordinateAreInvalidInputAsInEveryQuery) {
+  const Shape box = Box{{1, 1, 1}};
+  const Shape ball = Sphere{0.5};
+  for (const double x : {1.0000001e60, 1.8746639761426507e230, -1e300, std::numeric_limits<double>::max()}) {
+    const Pose far = Pose::from_translation({x, 0, 0});
+    for (const Shape* other : {&box, &ball}) {
+      const ContactResult ab = contact(box, far, *other, Pose::identity());
+      const ContactResult ba = contact(*other, Pose::identity(), box, far);
+      EXPECT_EQ(ab.status, Status::invalid_input) << "x = " << x << ": " << to_string(ab.status);
+      EXPECT_EQ(ba.status, Status::invalid_input) << "x = " << x << ": " << to_string(ba.status);
+      EXPECT_EQ(ab.count, 0);
+      EXPECT_EQ(penetration(box, far, *other, Pose::identity()).status, Status::invalid_input);
+    }
+  }
+  // At the bound itself the pair is valid and far apart.
+  const ContactResult at = contact(box, Pose::from_translation({1e60, 0, 0}), ball, Pose::identity());
+  EXPECT_EQ(at.status, Status::ok) << to_string(at.status);
+  EXPECT_FALSE(at.intersecting);
 }
 
 TEST(Manifold, CacheSkipsTheFullTestOnlyWhenTheCachedAxisSeparates) {

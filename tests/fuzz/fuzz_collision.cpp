@@ -1,5 +1,5 @@
-// Fuzz target: intersect / distance / penetration on arbitrary shapes and
-// poses.
+// Fuzz target: intersect / distance / penetration / contact on arbitrary
+// shapes and poses.
 //
 // The bytes choose two shapes (sphere, box, capsule, cylinder, cone or a hull
 // of up to 12 points, each with a margin), their sizes (sometimes negative,
@@ -11,7 +11,11 @@
 //   - when both orders answer ok: the distances agree within the pair's
 //     tolerance plus the reported error bounds, and so do the signed
 //     penetration distances; intersect agrees with them away from touching;
-//   - ok answers keep point_b - point_a = distance * normal and a unit normal.
+//   - ok answers keep point_b - point_a = distance * normal and a unit normal;
+//   - contact(): at most four points, every point and depth finite; when it
+//     and penetration() both answer ok, it says intersecting when the pair
+//     is deeper than the face bias of manifold.hpp, and a separation it
+//     reports is at most the signed distance plus that bias.
 // The tolerance is 1e-9 of the pair's size plus the rounding of its world
 // coordinates (64 eps of the largest coordinate).
 #include <algorithm>
@@ -19,6 +23,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
 #include <limits>
 #include <vector>
@@ -64,7 +69,18 @@ bool make_shape(hedra::fuzz::FuzzInput& in, Shape& shape) {
       std::vector<Vec> points(1 + in.byte() % 12);
       for (Vec& p : points) p = Vec(in.finite_double(4.0), in.finite_double(4.0), in.finite_double(4.0)) * scale;
       const auto built = hedra::collision::ConvexPolyhedron::build(points);
-      HEDRA_FUZZ_CHECK(built.ok(), "hull of %zu finite points failed: %s", points.size(), built.message.c_str());
+      if (!built.ok()) {
+        // Only a widest span under hull::min_input_extent (coordinates that
+        // came out tiny) may refuse a hull of finite points.
+        Vec lo = points[0], hi = points[0];
+        for (const Vec& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+        const double widest = (hi - lo).maxCoeff();
+        HEDRA_FUZZ_CHECK(widest > 0.0 && widest < hedra::hull::min_input_extent,
+                         "hull of %zu finite points spanning %g failed: %s", points.size(), widest,
+                         built.message.c_str());
+        shape = hedra::collision::Sphere{scale, margin};
+        return true;
+      }
       shape = hedra::collision::Polyhedron{built.polyhedron, margin};
       return true;
     }
@@ -155,6 +171,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const hedra::collision::DistanceResult d_ba = distance(b, pose_b, a, pose_a);
   const hedra::collision::PenetrationResult p_ab = penetration(a, pose_a, b, pose_b);
   const hedra::collision::PenetrationResult p_ba = penetration(b, pose_b, a, pose_a);
+  const hedra::collision::ContactResult c_ab = contact(a, pose_a, b, pose_b);
 
   if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
     std::fprintf(stderr, "intersect %d (%s, %d iterations)\n", i_ab.intersecting, to_string(i_ab.status),
@@ -163,16 +180,25 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                  to_string(d_ba.status));
     std::fprintf(stderr, "penetration %.17g / %.17g (%s / %s)\n", p_ab.distance, p_ba.distance, to_string(p_ab.status),
                  to_string(p_ba.status));
+    std::fprintf(stderr, "contact %.17g, %d points (%s)\n", c_ab.distance, c_ab.count, to_string(c_ab.status));
+  }
+  HEDRA_FUZZ_CHECK(c_ab.count >= 0 && c_ab.count <= hedra::collision::kMaxContactPoints, "contact count %d",
+                   c_ab.count);
+  HEDRA_FUZZ_CHECK(std::isfinite(c_ab.distance) && finite(c_ab.normal) && finite(c_ab.point_a) && finite(c_ab.point_b),
+                   "contact: non-finite output (status %s)", to_string(c_ab.status));
+  for (int k = 0; k < c_ab.count; ++k) {
+    HEDRA_FUZZ_CHECK(finite(c_ab.points[k].point) && std::isfinite(c_ab.points[k].depth),
+                     "contact point %d non-finite (status %s)", k, to_string(c_ab.status));
   }
   if (!valid) {
     HEDRA_FUZZ_CHECK(i_ab.status == Status::invalid_input && d_ab.status == Status::invalid_input &&
                          p_ab.status == Status::invalid_input && d_ba.status == Status::invalid_input &&
-                         p_ba.status == Status::invalid_input,
+                         p_ba.status == Status::invalid_input && c_ab.status == Status::invalid_input,
                      "invalid input answered %s / %s / %s", to_string(i_ab.status), to_string(d_ab.status),
                      to_string(p_ab.status));
   } else {
     HEDRA_FUZZ_CHECK(i_ab.status != Status::invalid_input && d_ab.status != Status::invalid_input &&
-                         p_ab.status != Status::invalid_input,
+                         p_ab.status != Status::invalid_input && c_ab.status != Status::invalid_input,
                      "valid input called invalid");
   }
   if (!valid) {
@@ -216,6 +242,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (d_ab.status == Status::ok && p_ab.status == Status::ok && d_ab.distance > tol + d_ab.error_bound) {
     HEDRA_FUZZ_CHECK(std::fabs(d_ab.distance - p_ab.distance) <= tol + d_ab.error_bound + p_ab.error_bound,
                      "distance %.17g but penetration %.17g", d_ab.distance, p_ab.distance);
+  }
+  if (c_ab.status == Status::ok && p_ab.status == Status::ok) {
+    // The manifold answers along its chosen axis (a face preferred within
+    // the bias of manifold.hpp) and from clipped points, so its distance
+    // is the exact one only within that bias; its verdict must agree away
+    // from it, and a separation it reports is SAT's lower bound.
+    const hedra::collision::ContactSettings settings;
+    const double slack = tol + p_ab.error_bound;
+    const double bias = settings.relative_bias * std::fabs(p_ab.distance) + settings.absolute_bias * 2.0 * size_scale;
+    if (!c_ab.intersecting)
+      HEDRA_FUZZ_CHECK(c_ab.distance <= p_ab.distance + bias + slack,
+                       "contact separation %.17g above the signed distance %.17g", c_ab.distance, p_ab.distance);
+    if (p_ab.distance < -(bias + slack))
+      HEDRA_FUZZ_CHECK(c_ab.intersecting, "contact says apart at depth %.17g (contact distance %.17g)", -p_ab.distance,
+                       c_ab.distance);
   }
   return 0;
 }

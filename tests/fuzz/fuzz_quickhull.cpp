@@ -4,8 +4,9 @@
 // duplicates and grids all reachable, see fuzz_input.hpp), sometimes shifted
 // far from the origin or scaled down. Checked, for every input:
 //   - empty input gives empty_input, any non-finite coordinate
-//     non_finite_input, a span over hull::max_input_extent
-//     out_of_range_input, and every other input a hull (status ok: the
+//     non_finite_input, a span over hull::max_input_extent or a widest
+//     span under hull::min_input_extent (but not 0) out_of_range_input, and
+//     every other input a hull (status ok: the
 //     iteration cap and topology failures are never expected);
 //   - the hull passes the mesh validator at its own tolerance, its
 //     dimension is 0..3, its vertices are input points;
@@ -54,7 +55,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   Eigen::Vector3d lo = points[0], hi = points[0];
   for (const Eigen::Vector3d& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  if (!((hi - lo).maxCoeff() <= hedra::hull::max_input_extent)) {
+  const double widest = (hi - lo).maxCoeff();
+  if (!(widest <= hedra::hull::max_input_extent) || (widest > 0.0 && widest < hedra::hull::min_input_extent)) {
     HEDRA_FUZZ_CHECK(r.status == hedra::hull::QuickhullStatus::out_of_range_input, "span %g: status %s",
                      (hi - lo).maxCoeff(), to_string(r.status));
     return 0;
@@ -71,7 +73,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     HEDRA_FUZZ_CHECK(r.mesh.position(v) == points[r.input_index[v]], "vertex %u is not its input point", v);
   }
   const double outside = hedra::hull::max_outside_distance(r.mesh, points);
-  HEDRA_FUZZ_CHECK(outside <= r.mesh.tolerance(), "%zu points: a point %.17g outside, tolerance %.17g", points.size(),
-                   outside, r.mesh.tolerance());
+  HEDRA_FUZZ_CHECK(outside <= r.mesh.tolerance(), "%zu points, dimension %d: a point %.17g outside, tolerance %.17g",
+                   points.size(), r.dimension, outside, r.mesh.tolerance());
   return 0;
 }

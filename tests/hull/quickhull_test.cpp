@@ -545,6 +545,72 @@ TEST(QuickhullDegenerate, NanOrInfReportsTheIndexOfTheBadPoint) {
   }
 }
 
+// Root cause (found by fuzzing): quickhull's normals are cross products of
+// coordinate differences, and their squared lengths multiply four of them.
+// Spans beyond 1e60 overflow them; widest spans below 1e-60 underflow them to
+// zero, and a cloud 1e-154 across read as a segment with a corner left out.
+// Both are out_of_range_input with a message; all points equal stays a point.
+TEST(QuickhullDegenerate, SpansWhoseProductsOverflowOrUnderflowAreOutOfRange) {
+  const Points tetra = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (const double scale : {1e61, 1e98, 1e-61, 6.0134700170496042e-154, 1e-300}) {
+    Points points;
+    for (const Eigen::Vector3d& p : tetra) points.push_back(p * scale);
+    const QuickhullResult r = hull_of(points);
+    EXPECT_EQ(r.status, QuickhullStatus::out_of_range_input) << "scale " << scale << ": " << hull::to_string(r.status);
+    EXPECT_NE(r.error.find(scale > 1 ? "1e60" : "1e-60"), std::string::npos) << r.error;
+    EXPECT_EQ(r.mesh.vertex_count(), 0u);
+  }
+  // Just inside both limits: a proper tetrahedron.
+  for (const double scale : {0.99e60, 1.01e-60}) {
+    Points points;
+    for (const Eigen::Vector3d& p : tetra) points.push_back(p * scale);
+    const QuickhullResult r = hull_of(points);
+    EXPECT_EQ(soundness_problem(r, points), "") << "scale " << scale;
+    EXPECT_EQ(r.dimension, 3) << "scale " << scale;
+    EXPECT_EQ(r.mesh.vertex_count(), 4u) << "scale " << scale;
+  }
+  // Span 0: every point the same tiny value is a point hull, not an error.
+  const Points same(5, Eigen::Vector3d::Constant(1e-300));
+  const QuickhullResult r = hull_of(same);
+  EXPECT_EQ(r.status, QuickhullStatus::ok) << r.error;
+  EXPECT_EQ(r.dimension, 0);
+}
+
+// Root cause (found by fuzzing): the search for the face a point is farthest
+// in front of (outside_search.hpp, used to catch points that merging left
+// outside) takes the face a ray from an interior point leaves through, a
+// ratio whose denominator is tiny on a wedge 7e-10 thick; rounding picked a
+// face the ray grazes, the point behind it, and a point 1.3e-8 outside the
+// wedge's end face (x = 450000) was dropped. The exit face's ring now decides.
+TEST(QuickhullDegenerate, GrazingExitFaceOfAThinWedgeStillFindsThePointOutside) {
+  const Points points = {{449999, 449999, 449999},
+                         {450000, 449999, 449999},
+                         {450000.00000001281, 449999.00000001281, 449999.00000001281},
+                         {449999, 450000, 450000},
+                         {450000, 450000, 450000},
+                         {450000, 450000, 450000},
+                         {450000, 450000, 450000},
+                         {450000, 450000, 450000.00000000099},
+                         {450000, 450000, 450000},
+                         {449993.5625, 449993.5625, 449993.5625},
+                         {449993.5625, 449993.5625, 449993.5625},
+                         {449993.5625, 450000, 450000},
+                         {450000, 450000, 450000},
+                         {450000, 450000, 450000},
+                         {450000, 450000, 450000},
+                         {450000, 450000, 450000},
+                         {450000, 450000, 450000},
+                         {450000, 450000, 450000},
+                         {449999.00000000012, 449999.00000000012, 449999.00000000012}};
+  const QuickhullResult r = hull_of(points);
+  EXPECT_EQ(soundness_problem(r, points), "");
+  EXPECT_EQ(r.dimension, 3);
+  EXPECT_LE(hull::max_outside_distance(r.mesh, points), r.mesh.tolerance());
+  bool has_point_2 = false;
+  for (const hull::Index i : r.input_index) has_point_2 = has_point_2 || i == 2;
+  EXPECT_TRUE(has_point_2) << "the point 1.3e-8 beyond x = 450000 is a vertex of the hull";
+}
+
 TEST(QuickhullDegenerate, NearDuplicateClustersKeepEveryCorner) {
   for (std::uint64_t seed : {1u, 2u, 3u, 4u}) {
     SCOPED_TRACE("seed " + std::to_string(seed));

@@ -7,7 +7,11 @@
 //      and input spanning more than max_input_extent (1e60) along an axis:
 //      normals are cross products of coordinate differences and their squared
 //      lengths multiply four of them, which must not overflow a double (found
-//      by fuzzing: a span of 1e98 gave a zero normal and a wrong hull).
+//      by fuzzing: a span of 1e98 gave a zero normal and a wrong hull). For
+//      the same reason a widest span below min_input_extent (1e-60) that is
+//      not zero is rejected too: those products underflow to zero (found by
+//      fuzzing: points 1e-154 apart read as a segment, a corner left out).
+//      All points equal (span 0) is a point hull, as always.
 //   2. Recentre the points on their bounding-box centre and derive the
 //      tolerance from the recentred extent:
 //        eps = 3 * DBL_EPSILON * (max|x| + max|y| + max|z|),
@@ -61,7 +65,8 @@ enum class QuickhullStatus {
   ok,
   empty_input,         // no points at all
   non_finite_input,    // a NaN or infinite coordinate; error names the point
-  out_of_range_input,  // the points span more than max_input_extent along an axis
+  out_of_range_input,  // the points span more than max_input_extent along an axis, or
+                       // their widest span is not zero but below min_input_extent
   iteration_limit,     // the iteration cap was hit (the mesh is the hull so far)
   topology_failure,    // an internal consistency check failed (never expected)
 };
@@ -71,6 +76,11 @@ const char* to_string(QuickhullStatus status);
 // The largest extent (max - min of a coordinate) quickhull accepts: products
 // of up to five coordinate differences stay below 1e300.
 constexpr double max_input_extent = 1e60;
+// The smallest widest span (over the three axes) quickhull accepts, unless
+// every point is the same: products of up to five coordinate differences
+// stay above 1e-300, clear of the subnormal range where a double loses its
+// precision.
+constexpr double min_input_extent = 1e-60;
 
 struct QuickhullOptions {
   // Points within this distance of a face plane count as on it. 0 (the
