@@ -45,6 +45,7 @@ using hedra::collision::Pose;
 using hedra::collision::Shape;
 namespace col = hedra::collision;
 
+#if defined(HEDRA_PROFILE_DUMP)
 std::string num(double x) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.17g", x);
@@ -74,6 +75,8 @@ void write_pose(std::ostream& out, const Pose& p) {
     for (int j = 0; j < 3; ++j) out << num(p.rotation(i, j)) << ' ';
   out << num(p.translation.x()) << ' ' << num(p.translation.y()) << ' ' << num(p.translation.z()) << '\n';
 }
+
+#endif
 
 Shape read_shape(std::istream& in) {
   std::string kind;
