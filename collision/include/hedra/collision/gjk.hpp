@@ -284,14 +284,18 @@ inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
   // Johnson's argument), so rounding cannot make that face the answer.
   // Bound on the rounding of det(a, b, c) = a . (b x c): below
   // 8 eps |a| |b| |c| (two roundings in each product of the cross product,
-  // one in its difference, three in the dot); 32 eps is used.
+  // one in its difference, three in the dot); 32 eps is used, plus 1e-290
+  // for products that underflow (points below ~1e-100: their subnormal
+  // rounding is absolute, and then nothing is skipped). An overflowing or
+  // NaN bound skips nothing either (the comparison fails).
   std::array<double, 4> nn;
   for (int m = 0; m < 4; ++m) nn[m] = w[m].squaredNorm();
   constexpr double kDetError = 32.0 * std::numeric_limits<double>::epsilon();
+  constexpr double kDetFloor = 1e-290;
   std::array<double, 4> bound;
   static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
   for (int m = 0; m < 4; ++m)
-    bound[m] = kDetError * std::sqrt(nn[kOthers[m][0]] * nn[kOthers[m][1]] * nn[kOthers[m][2]]);
+    bound[m] = kDetError * std::sqrt(nn[kOthers[m][0]] * nn[kOthers[m][1]] * nn[kOthers[m][2]]) + kDetFloor;
   const bool total_certain = std::abs(mu) > bound[0] + bound[1] + bound[2] + bound[3];
   static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
   double best = std::numeric_limits<double>::infinity();
