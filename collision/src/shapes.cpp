@@ -188,6 +188,7 @@ ConvexPolyhedron::BuildResult ConvexPolyhedron::build(const std::vector<Eigen::V
     radius = std::max(radius, mesh.position(v).norm());
   }
   poly->bounding_radius_ = radius;
+  poly->dimension_ = mesh.dimension();
   // Point and segment hulls have no edges: empty rows.
   poly->neighbors_.reserve(mesh.half_edge_count());
   for (hull::Index v = 0; v < n; ++v) {

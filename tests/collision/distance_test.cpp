@@ -17,11 +17,13 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <hedra/collision/query.hpp>
+#include <limits>
 #include <new>
 #include <qhull_reference.hpp>
 #include <random>
@@ -458,6 +460,38 @@ TEST(GjkHardCases, DuplicateSupportPointsAndDegenerateHulls) {
     }
   }
   EXPECT_GT(checked, 20);
+}
+
+// s3d skips a face through the newest point when its coordinate's sign is
+// certain beyond rounding (perf: most of the sub-algorithm's cost). On
+// random tetrahedra not holding the origin, from well shaped to nearly
+// flat, its point must be as near as the nearest point of all four faces.
+TEST(GjkSubAlgorithm, TetrahedronSkipsOnlyFacesThatCannotBeNearest) {
+  std::mt19937_64 rng(14);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int outside = 0, flat = 0;
+  for (int i = 0; i < 20000; ++i) {
+    std::array<Vec, 4> w;
+    // Every fifth at 1e-105, where the determinants are subnormal.
+    const double scale = i % 5 == 4 ? 1e-105 : 1.0;
+    const Vec centre(3 * u(rng), 3 * u(rng), 3 * u(rng));
+    const double squash = std::pow(10.0, -12.0 * (i % 7) / 6.0);  // 1 .. 1e-12
+    for (Vec& p : w) p = scale * (centre + Vec(u(rng), u(rng), squash * u(rng)));
+    gjk_detail::Sub sub;
+    if (gjk_detail::s3d(w, sub)) continue;
+    ++outside;
+    flat += squash < 1e-6 ? 1 : 0;
+    static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+    double all = std::numeric_limits<double>::infinity();
+    for (const auto& f : kFace) {
+      gjk_detail::Sub face;
+      gjk_detail::s2d(w, f[0], f[1], f[2], face, 3);
+      all = std::min(all, face.point.squaredNorm());
+    }
+    ASSERT_LE(std::sqrt(sub.point.squaredNorm()), std::sqrt(all) + 1e-12 * scale * (centre.norm() + 2.0)) << i;
+  }
+  EXPECT_GT(outside, 10000);
+  EXPECT_GT(flat, 3000);  // nearly flat ones among them
 }
 
 TEST(GjkStatus, CapInvalidInputAndNoNan) {

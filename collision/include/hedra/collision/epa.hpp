@@ -160,7 +160,20 @@ Vertex support(const A& a, const B& b, const Eigen::Vector3d& d) {
   return v;
 }
 
-inline bool finite(const Vertex& v) { return v.w.allFinite() && v.a.allFinite() && v.b.allFinite(); }
+// w = a - b is finite exactly when a and b are (an infinite or NaN operand
+// gives an infinite or NaN difference), and w also catches an overflow.
+inline bool finite(const Vertex& v) { return v.w.allFinite(); }
+
+// a . b and a x b written out per coordinate, in Eigen's order for one
+// 3-vector (dot: (a0 b0 + a1 b1) + a2 b2), so the results are the same bits;
+// Eigen's SSE2 code for a lone 3-vector (a packet of two, shuffles, a scalar
+// third) costs more instructions in EPA's inner loops.
+inline double dot3(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return (a.x() * b.x() + a.y() * b.y()) + a.z() * b.z();
+}
+inline Eigen::Vector3d cross3(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return {a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(), a.x() * b.y() - a.y() * b.x()};
+}
 
 // Twice the area vector of triangle p0 p1 p2, from the two edges that meet
 // opposite the longest one (the most accurate pair: the rounding error of
@@ -168,10 +181,10 @@ inline bool finite(const Vertex& v) { return v.w.allFinite() && v.a.allFinite() 
 // exact arithmetic.
 inline Eigen::Vector3d area_vector(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) {
   const Eigen::Vector3d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
-  const double l0 = e0.squaredNorm(), l1 = e1.squaredNorm(), l2 = e2.squaredNorm();
-  if (l0 >= l1 && l0 >= l2) return e1.cross(e2);
-  if (l1 >= l2) return e2.cross(e0);
-  return e0.cross(e1);
+  const double l0 = dot3(e0, e0), l1 = dot3(e1, e1), l2 = dot3(e2, e2);
+  if (l0 >= l1 && l0 >= l2) return cross3(e1, e2);
+  if (l1 >= l2) return cross3(e2, e0);
+  return cross3(e0, e1);
 }
 
 // Parameter in [0, 1] of the point of segment p0 p1 closest to x.
@@ -258,10 +271,10 @@ struct Polytope {
   static bool plane(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, Eigen::Vector3d& n,
                     double& d) {
     const Eigen::Vector3d c = area_vector(p0, p1, p2);
-    const double len = c.norm();
+    const double len = std::sqrt(dot3(c, c));
     if (!(len > 0.0) || !std::isfinite(len)) return false;
-    n = c / len;
-    d = (n.dot(p0) + n.dot(p1) + n.dot(p2)) / 3.0;
+    n = {c.x() / len, c.y() / len, c.z() / len};
+    d = (dot3(n, p0) + dot3(n, p1) + dot3(n, p2)) / 3.0;
     return true;
   }
 
@@ -283,24 +296,23 @@ struct Polytope {
   // caller orders the vertices so). Returns false on a degenerate face.
   bool init_tetrahedron() {
     static constexpr int kFaces[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+    // Edge i = (v[i], v[i+1]) of face f is edge kAdjEdge[f][i] of face
+    // kAdj[f][i], traversed the other way (worked out from kFaces).
+    static constexpr int kAdj[4][3] = {{3, 2, 1}, {0, 2, 3}, {0, 3, 1}, {1, 2, 0}};
+    static constexpr int kAdjEdge[4][3] = {{2, 0, 0}, {2, 2, 0}, {1, 1, 1}, {2, 1, 0}};
     face_end = 0;
     free_count = 0;
     for (int f = 0; f < 4; ++f) {
       Face& face_f = face[f];
       face_f.v = {kFaces[f][0], kFaces[f][1], kFaces[f][2]};
+      face_f.adj = {kAdj[f][0], kAdj[f][1], kAdj[f][2]};
+      face_f.adj_edge = {kAdjEdge[f][0], kAdjEdge[f][1], kAdjEdge[f][2]};
       face_f.live = true;
       face_f.removed_at = -1;
       if (!plane(vertex[face_f.v[0]].w, vertex[face_f.v[1]].w, vertex[face_f.v[2]].w, face_f.n, face_f.d)) return false;
       live_d[f] = face_f.d;
     }
     face_end = 4;
-    // Each directed edge (p, q) of one face meets (q, p) in exactly one other.
-    for (int f = 0; f < 4; ++f)
-      for (int i = 0; i < 3; ++i)
-        for (int g = f + 1; g < 4; ++g)
-          for (int j = 0; j < 3; ++j)
-            if (face[f].v[i] == face[g].v[(j + 1) % 3] && face[f].v[(i + 1) % 3] == face[g].v[j])
-              link(face[f], i, f, face[g], j, g);
     return true;
   }
 
@@ -336,7 +348,7 @@ struct Polytope {
         const int g = face[f].adj[i];
         Face& fg = face[g];
         if (fg.removed_at == stamp) continue;
-        if (fg.n.dot(w.w) - fg.d > visible) {
+        if (dot3(fg.n, w.w) - fg.d > visible) {
           fg.removed_at = stamp;
           removed[removed_count++] = g;
         } else {
@@ -660,7 +672,7 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
       r.status = EpaStatus::degenerate;
       break;
     }
-    const double h = f.n.dot(s.w);
+    const double h = epa_detail::dot3(f.n, s.w);
     if (h < upper) {
       upper = h;
       upper_n = f.n;

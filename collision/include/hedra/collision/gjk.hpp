@@ -276,11 +276,32 @@ inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
   // through w[3] could go unexamined, v would not decrease and the loop would
   // stop with the gap still large. Every candidate is a point of the simplex,
   // so the closest of a larger set is never worse.
+  //
+  // A face through w[3] whose coordinate has the sign of the total beyond
+  // any rounding (and the total's sign too) is skipped: then the origin is
+  // certainly on the tetrahedron's side of that face's plane, and the
+  // closest point lies on a face whose plane separates (exact arithmetic,
+  // Johnson's argument), so rounding cannot make that face the answer.
+  // Bound on the rounding of det(a, b, c) = a . (b x c): below
+  // 8 eps |a| |b| |c| (two roundings in each product of the cross product,
+  // one in its difference, three in the dot); 32 eps is used, plus 1e-290
+  // for products that underflow (points below ~1e-100: their subnormal
+  // rounding is absolute, and then nothing is skipped). An overflowing or
+  // NaN bound skips nothing either (the comparison fails).
+  std::array<double, 4> nn;
+  for (int m = 0; m < 4; ++m) nn[m] = w[m].squaredNorm();
+  constexpr double kDetError = 32.0 * std::numeric_limits<double>::epsilon();
+  constexpr double kDetFloor = 1e-290;
+  std::array<double, 4> bound;
+  static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  for (int m = 0; m < 4; ++m)
+    bound[m] = kDetError * std::sqrt(nn[kOthers[m][0]] * nn[kOthers[m][1]] * nn[kOthers[m][2]]) + kDetFloor;
+  const bool total_certain = std::abs(mu) > bound[0] + bound[1] + bound[2] + bound[3];
   static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
   double best = std::numeric_limits<double>::infinity();
   bool found = false;
   for (int m = 0; m < 4; ++m) {
-    if (!outside[m] && m == 3) continue;
+    if (!outside[m] && (m == 3 || (total_certain && std::abs(c[m]) > bound[m]))) continue;
     Sub candidate;
     s2d(w, kFace[m][0], kFace[m][1], kFace[m][2], candidate, 3);
     const double d2 = candidate.point.squaredNorm();
@@ -293,37 +314,41 @@ inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
   return false;
 }
 
-// Reduces `s` (1..4 points) to the sub-simplex nearest the origin and sets
-// `point` to its point nearest the origin; returns true when the origin is
-// inside a tetrahedron.
-inline bool signed_volumes(GjkSimplex& s, Eigen::Vector3d& point) {
-  Sub sub;
-  bool inside = false;
-  switch (s.size) {
+// The sub-simplex of the first `count` points of `w` (1..4, the last one the
+// support point just added) nearest the origin, its weights and its point
+// nearest the origin; returns true when the origin is inside a tetrahedron.
+inline bool signed_volumes(const std::array<Eigen::Vector3d, 4>& w, int count, Sub& sub) {
+  switch (count) {
     case 1:
-      vertex(s.w, 0, sub);
-      break;
+      vertex(w, 0, sub);
+      return false;
     case 2:
-      s1d(s.w, 0, 1, sub);
-      break;
+      s1d(w, 0, 1, sub);
+      return false;
     case 3:
-      s2d(s.w, 0, 1, 2, sub, 2);
-      break;
+      s2d(w, 0, 1, 2, sub, 2);
+      return false;
     default:
-      inside = s3d(s.w, sub);
-      break;
+      return s3d(w, sub);
   }
-  GjkSimplex reduced;
-  reduced.size = sub.size;
+}
+
+// Rewrites `s` as the sub-simplex `sub` of its points (indices distinct, in
+// any order), with sub's weights.
+inline void adopt(GjkSimplex& s, const Sub& sub) {
+  std::array<Eigen::Vector3d, 4> w, a, b;
   for (int i = 0; i < sub.size; ++i) {
-    reduced.w[i] = s.w[sub.index[i]];
-    reduced.a[i] = s.a[sub.index[i]];
-    reduced.b[i] = s.b[sub.index[i]];
-    reduced.lambda[i] = sub.lambda[i];
+    w[i] = s.w[sub.index[i]];
+    a[i] = s.a[sub.index[i]];
+    b[i] = s.b[sub.index[i]];
   }
-  s = reduced;
-  point = sub.point;
-  return inside;
+  for (int i = 0; i < sub.size; ++i) {
+    s.w[i] = w[i];
+    s.a[i] = a[i];
+    s.b[i] = b[i];
+    s.lambda[i] = sub.lambda[i];
+  }
+  s.size = sub.size;
 }
 
 inline Eigen::Vector3d weighted(const std::array<Eigen::Vector3d, 4>& p, const GjkSimplex& s) {
@@ -400,27 +425,28 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
       break;
     }
 
-    GjkSimplex next = s;
-    next.w[next.size] = w;
-    next.a[next.size] = pa;
-    next.b[next.size] = pb;
-    ++next.size;
-    Eigen::Vector3d v_next;
-    const bool inside = signed_volumes(next, v_next);
-    if (inside) {
-      s = next;
+    // w goes into the free slot s.size (a simplex of 4 has ended the loop:
+    // inside, or reduced to at most 3); s itself is rewritten only when the
+    // step is accepted, so a rejected step leaves the previous simplex, its
+    // weights and v as they were.
+    s.w[s.size] = w;
+    s.a[s.size] = pa;
+    s.b[s.size] = pb;
+    Sub sub;
+    if (signed_volumes(s.w, s.size + 1, sub)) {
+      adopt(s, sub);  // v stays the last axis searched (r.v, the cache's warm start)
       r.intersecting = true;
       break;
     }
-    const double vv_next = v_next.squaredNorm();
+    const double vv_next = sub.point.squaredNorm();
     // Strict decrease, written so that NaN fails it: keep the previous,
     // better simplex and stop (the gap was above the tolerance).
     if (!(vv_next < vv)) {
       r.status = GjkStatus::stalled;
       break;
     }
-    s = next;
-    v = v_next;
+    adopt(s, sub);
+    v = sub.point;
     vv = vv_next;
   }
 

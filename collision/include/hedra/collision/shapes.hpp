@@ -122,7 +122,7 @@ class ConvexPolyhedron {
   const hull::Index* neighbors_end(hull::Index i) const { return neighbors_.data() + neighbor_offsets_[i + 1]; }
   // The half-edge mesh, recentred like vertex() (same vertex indices).
   const hull::HalfEdgeMesh& mesh() const { return mesh_; }
-  int dimension() const { return mesh_.dimension(); }
+  int dimension() const { return dimension_; }
   // max |vertex(i)|: the radius of a ball around offset() holding the hull.
   double bounding_radius() const { return bounding_radius_; }
 
@@ -134,6 +134,7 @@ class ConvexPolyhedron {
   std::vector<std::uint32_t> neighbor_offsets_;  // vertex_count() + 1 entries
   std::vector<hull::Index> neighbors_;
   hull::HalfEdgeMesh mesh_;
+  int dimension_ = 0;  // mesh_.dimension(), kept: the support mapping asks on every call
   double bounding_radius_ = 0.0;
 };
 

@@ -48,13 +48,22 @@ namespace hedra::collision {
 
 inline constexpr std::size_t kHillClimbCrossover = 32;
 
+// d . x summed as Eigen's dot() sums a 3-vector, (d0 x0 + d1 x1) + d2 x2,
+// so the support loops below pick exactly the vertices they picked with
+// dot(); written out because Eigen's SSE2 code for one 3-vector (a packet
+// of two, a shuffle, a scalar third) costs about twice the instructions.
+inline double support_dot(const Eigen::Vector3d& d, const Eigen::Vector3d& x) {
+  return (d.x() * x.x() + d.y() * x.y()) + d.z() * x.z();
+}
+
 // Index of a vertex maximising d . vertex(i); the first such vertex.
 inline hull::Index polyhedron_support_scan(const ConvexPolyhedron& poly, const Eigen::Vector3d& d) {
-  const std::vector<Eigen::Vector3d>& v = poly.vertices();
+  const Eigen::Vector3d* v = poly.vertices().data();
+  const std::size_t n = poly.vertex_count();
   hull::Index best = 0;
-  double best_value = d.dot(v[0]);
-  for (std::size_t i = 1; i < v.size(); ++i) {
-    const double value = d.dot(v[i]);
+  double best_value = support_dot(d, v[0]);
+  for (std::size_t i = 1; i < n; ++i) {
+    const double value = support_dot(d, v[i]);
     if (value > best_value) {
       best_value = value;
       best = static_cast<hull::Index>(i);
@@ -67,13 +76,15 @@ inline hull::Index polyhedron_support_scan(const ConvexPolyhedron& poly, const E
 // means 0). Exact as argued at the top of this file.
 inline hull::Index polyhedron_support_climb(const ConvexPolyhedron& poly, const Eigen::Vector3d& d, hull::Index start) {
   const std::size_t n = poly.vertex_count();
+  const Eigen::Vector3d* v = poly.vertices().data();
   hull::Index current = start < n ? start : 0;
-  double current_value = d.dot(poly.vertex(current));
+  double current_value = support_dot(d, v[current]);
   for (std::size_t step = 0; step < n; ++step) {
     hull::Index best = current;
     double best_value = current_value;
-    for (const hull::Index* it = poly.neighbors_begin(current); it != poly.neighbors_end(current); ++it) {
-      const double value = d.dot(poly.vertex(*it));
+    const hull::Index* const end = poly.neighbors_end(current);
+    for (const hull::Index* it = poly.neighbors_begin(current); it != end; ++it) {
+      const double value = support_dot(d, v[*it]);
       if (value > best_value) {
         best_value = value;
         best = *it;
