@@ -24,8 +24,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <hedra/collision/query.hpp>
@@ -234,9 +234,9 @@ int run(const std::string& file, const std::string& only, int repeat, bool time)
   for (const std::string& f : order) {
     Stats& s = stats[f];
     failures += s.failures;
-    std::printf("%-18s pairs %4d queries %6d failures %d max_abs %.3g max_rel %.3g gjk %.2f epa %.2f calls %.2f", f.c_str(),
-                s.pairs, s.queries, s.failures, s.max_abs, s.max_rel, double(s.gjk) / s.pairs, double(s.epa) / s.pairs,
-                double(s.calls) / s.pairs);
+    std::printf("%-18s pairs %4d queries %6d failures %d max_abs %.3g max_rel %.3g gjk %.2f epa %.2f calls %.2f",
+                f.c_str(), s.pairs, s.queries, s.failures, s.max_abs, s.max_rel, double(s.gjk) / s.pairs,
+                double(s.epa) / s.pairs, double(s.calls) / s.pairs);
     if (time && !s.ns.empty()) {
       std::nth_element(s.ns.begin(), s.ns.begin() + s.ns.size() / 2, s.ns.end());
       std::printf(" median_ns %.0f", s.ns[s.ns.size() / 2]);
@@ -259,12 +259,16 @@ int main(int argc, char** argv) {
     bool time = false;
     for (int i = 3; i < argc; ++i) {
       const std::string arg = argv[i];
-      if (arg == "--family" && i + 1 < argc) only = argv[++i];
-      else if (arg == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
-      else if (arg == "--time") time = true;
+      if (arg == "--family" && i + 1 < argc)
+        only = argv[++i];
+      else if (arg == "--repeat" && i + 1 < argc)
+        repeat = std::max(1, std::atoi(argv[++i]));
+      else if (arg == "--time")
+        time = true;
     }
     return run(argv[2], only, repeat, time);
   }
-  std::fprintf(stderr, "usage: penetration_profile dump FILE FAMILY... | run FILE [--family NAME] [--repeat N] [--time]\n");
+  std::fprintf(stderr,
+               "usage: penetration_profile dump FILE FAMILY... | run FILE [--family NAME] [--repeat N] [--time]\n");
   return 2;
 }
