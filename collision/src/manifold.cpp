@@ -708,7 +708,7 @@ ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const 
   // valid(), not only finite(): translations beyond max_coordinate are invalid in
   // every query (found by fuzzing: a box at x = 1.9e230 answered ok, "separated").
   if (!pose_a.valid() || !pose_b.valid() || !validate(a).ok() || !validate(b).ok() ||
-      !std::isfinite(settings.contact_distance)) {
+      !pair_in_range(a, pose_a, b, pose_b) || !std::isfinite(settings.contact_distance)) {
     ContactResult out;
     out.status = Status::invalid_input;
     return out;

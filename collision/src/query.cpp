@@ -65,7 +65,8 @@ void make_consistent(Eigen::Vector3d& point_a, Eigen::Vector3d& point_b, double 
 }
 
 bool inputs_valid(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
-  return pose_a.valid() && pose_b.valid() && validate(a).ok() && validate(b).ok();
+  return pose_a.valid() && pose_b.valid() && validate(a).ok() && validate(b).ok() &&
+         pair_in_range(a, pose_a, b, pose_b);
 }
 
 // Everything a query needs, typed: both cores, B's core in A's core frame,
@@ -242,6 +243,15 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
 }
 
 }  // namespace
+
+bool pair_in_range(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
+  if (std::max(bounding_radius(a), bounding_radius(b)) >= min_pair_extent) return true;
+  const auto origin = [](const Shape& s, const Pose& pose) {
+    return std::visit([&](const auto& shape) { return pose.apply(core_offset(shape)); }, s);
+  };
+  const double reach = (origin(b, pose_b) - origin(a, pose_a)).cwiseAbs().maxCoeff();
+  return reach >= min_pair_extent || (reach == 0.0 && std::max(bounding_radius(a), bounding_radius(b)) == 0.0);
+}
 
 IntersectResult intersect(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, GjkCache* cache,
                           const GjkSettings& settings) {

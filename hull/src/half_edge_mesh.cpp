@@ -291,7 +291,7 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
         if (side.dot(dn) > tol)
           err(name() + " is not convex at vertex " + std::to_string(destination(e)) + " (turns outward by " +
               std::to_string(side.dot(dn)) + ")");
-        if (exhaustive) turning += std::atan2(d.cross(dn).dot(pl.normal), d.dot(dn));
+        turning += std::atan2(d.cross(dn).dot(pl.normal), d.dot(dn));
       }
     }
     if (newell.dot(pl.normal) <= 0) err(name() + " is wound against its plane normal");
@@ -299,8 +299,7 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
     // total is a whole number of turns up to rounding, and on faces whose
     // edges are a few tolerances long (a cut just past a vertex) that rounding
     // reaches 1e-5, so half a turn is the threshold that separates the two.
-    if (exhaustive && std::abs(turning - 2 * M_PI) > M_PI)
-      err(name() + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
+    if (std::abs(turning - 2 * M_PI) > M_PI) err(name() + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
     // Local convexity: the vertices next to each edge in the neighbouring
     // face are behind this face's plane.
     for (Index e : face_edges(f)) {

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
 #include <limits>
 #include <new>
@@ -460,6 +461,71 @@ TEST(GjkHardCases, DuplicateSupportPointsAndDegenerateHulls) {
     }
   }
   EXPECT_GT(checked, 20);
+}
+
+// Fuzz finding (a point hull at x = 8.2e-159 against a point): the squares
+// of lengths that small underflow (2e-170 apart read as touching; 8.2e-159
+// gave a normal of length 1 - 4.7e-9). A pair whose extent is not zero but
+// below min_pair_extent is refused by every query; from min_pair_extent up
+// the answers are exact.
+TEST(GjkHardCases, PairsBelowTheMinimumExtentAreRefusedAboveItExact) {
+  const Vec direction = Vec(1, 2, -2).normalized();
+  const Sphere point{0.0, 0.0};
+  for (const double x : {8.2e-159, 2.0e-170, 0.5e-60, 1.0e-60, 3.0e-60, 1.0e-30}) {
+    const bool in_range = x * direction.cwiseAbs().maxCoeff() >= min_pair_extent;
+    const auto point_hull = make_hull({x * direction});
+    for (const bool swapped : {false, true}) {
+      const Shape a = swapped ? Shape(point) : Shape(Polyhedron{point_hull, 0.0});
+      const Shape b = swapped ? Shape(Polyhedron{point_hull, 0.0}) : Shape(point);
+      EXPECT_EQ(pair_in_range(a, Pose::identity(), b, Pose::identity()), in_range) << x;
+      const IntersectResult i = intersect(a, Pose::identity(), b, Pose::identity());
+      const DistanceResult d = distance(a, Pose::identity(), b, Pose::identity());
+      const PenetrationResult p = penetration(a, Pose::identity(), b, Pose::identity());
+      const ContactResult c = contact(a, Pose::identity(), b, Pose::identity());
+      if (!in_range) {
+        EXPECT_EQ(i.status, Status::invalid_input) << x;
+        EXPECT_EQ(d.status, Status::invalid_input) << x;
+        EXPECT_EQ(p.status, Status::invalid_input) << x;
+        EXPECT_EQ(c.status, Status::invalid_input) << x;
+        EXPECT_TRUE(d.normal.allFinite() && p.normal.allFinite() && d.distance == 0.0 && p.distance == 0.0);
+        continue;
+      }
+      ASSERT_EQ(d.status, Status::ok) << x;
+      ASSERT_EQ(p.status, Status::ok) << x;
+      EXPECT_FALSE(i.intersecting) << x;
+      EXPECT_NEAR(d.distance, x, 4e-16 * x) << x;
+      EXPECT_NEAR(p.distance, x, 4e-16 * x) << x;
+      EXPECT_NEAR(d.normal.norm(), 1.0, 4e-16) << x;
+      EXPECT_NEAR(p.normal.norm(), 1.0, 4e-16) << x;
+      EXPECT_NEAR(d.normal.dot(swapped ? direction : Vec(-direction)), 1.0, 4e-16) << x;
+    }
+  }
+  // Coincident points: extent zero, in range, touching.
+  const Shape origin = Sphere{0.0, 0.0};
+  EXPECT_TRUE(pair_in_range(origin, Pose::identity(), origin, Pose::identity()));
+  EXPECT_TRUE(intersect(origin, Pose::identity(), origin, Pose::identity()).intersecting);
+  // A tiny shape far from another is in range (the extent is the distance).
+  const Shape tiny = Sphere{1e-80, 0.0};
+  EXPECT_TRUE(pair_in_range(tiny, Pose::identity(), origin, Pose::from_translation({0.0, 2.0, 0.0})));
+  EXPECT_NEAR(distance(tiny, Pose::identity(), origin, Pose::from_translation({0.0, 2.0, 0.0})).distance, 2.0, 1e-15);
+}
+
+// gjk_distance() itself (public, for support types of any scale) takes |v|
+// with scaling when |v|^2 is subnormal: the distance exact to rounding and
+// v / distance a unit vector. (Its dot products lose bits down there too, so
+// it may stop as stalled, with the same best-so-far answer; the queries of
+// query.hpp never get there, see min_pair_extent.)
+TEST(GjkHardCases, SubnormalSquaredDistanceInGjkDistance) {
+  for (const double x : {8.2e-159, 3.0e-160, 1.0e-155, 1.0e-150}) {
+    const Vec at = x * Vec(1, 2, -2).normalized();
+    const PointCore origin;
+    const Transformed<PointCore> moved{origin, Eigen::Matrix3d::Identity(), at};
+    const GjkResult g = gjk_distance(origin, moved, Vec::UnitX(), 0.0);
+    ASSERT_TRUE(g.status == GjkStatus::ok || g.status == GjkStatus::stalled) << x;
+    ASSERT_FALSE(g.intersecting) << x;
+    EXPECT_NEAR(g.distance, x, 4e-16 * x) << x;
+    EXPECT_NEAR((g.v / g.distance).norm(), 1.0, 4e-16) << x;
+  }
 }
 
 // s3d skips a face through the newest point when its coordinate's sign is

@@ -7,7 +7,8 @@
 // may be zero or NaN, translations up to 1e6). Checked, for every input and
 // both orders (A, B) and (B, A):
 //   - every output field is finite, whatever the status;
-//   - invalid shapes or poses give invalid_input, valid ones never do;
+//   - invalid shapes or poses, or a pair below min_pair_extent, give
+//     invalid_input; valid ones never do;
 //   - when both orders answer ok: the distances agree within the pair's
 //     tolerance plus the reported error bounds, and so do the signed
 //     penetration distances; intersect agrees with them away from touching;
@@ -26,6 +27,7 @@
 #include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
 #include <limits>
+#include <variant>
 #include <vector>
 
 #include "fuzz_input.hpp"
@@ -164,7 +166,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     describe("a", a, pose_a);
     describe("b", b, pose_b);
   }
-  const bool valid = validate(a).ok() && validate(b).ok() && pose_a.valid() && pose_b.valid();
+  bool valid = validate(a).ok() && validate(b).ok() && pose_a.valid() && pose_b.valid();
+  if (valid) {
+    // The pair-extent rule of query.hpp, from its definition: the larger
+    // bounding radius or the distance between the origins, zero or at least
+    // min_pair_extent.
+    const auto origin = [](const Shape& s, const Pose& pose) {
+      return std::visit([&](const auto& shape) { return pose.apply(hedra::collision::core_offset(shape)); }, s);
+    };
+    const double extent = std::max({hedra::collision::bounding_radius(a), hedra::collision::bounding_radius(b),
+                                    (origin(b, pose_b) - origin(a, pose_a)).cwiseAbs().maxCoeff()});
+    valid = extent == 0.0 || extent >= hedra::collision::min_pair_extent;
+  }
 
   const hedra::collision::IntersectResult i_ab = intersect(a, pose_a, b, pose_b);
   const hedra::collision::DistanceResult d_ab = distance(a, pose_a, b, pose_b);

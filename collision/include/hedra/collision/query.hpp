@@ -50,12 +50,27 @@ enum class Status {
   ok,              // outputs valid
   max_iterations,  // GJK or EPA hit its cap: outputs are the best so far, no verdict
   degenerate,      // a non-finite support point appeared
-  invalid_input,   // a shape failed validate() or a pose is not Pose::valid() (non-finite, beyond max_coordinate)
+  invalid_input,   // a shape failed validate(), a pose is not Pose::valid() (non-finite, beyond max_coordinate)
+                   // or the pair is out of range (pair_in_range())
   polytope_full,   // EPA's fixed-capacity polytope ran out: best so far, see error_bound
   stalled,         // GJK or EPA stopped progressing (rounding) above the tolerance: best so far, see error_bound
 };
 
 const char* to_string(Status status);
+
+// The smallest non-zero extent of a pair that queries accept, the mirror of
+// max_shape_size and max_coordinate (and of hull::min_input_extent): queries
+// square lengths, and squares of lengths below about 1e-154 underflow, so a
+// pair that small has no trustworthy answer (found by fuzzing: a point
+// 2e-170 from a point read as touching).
+constexpr double min_pair_extent = 1e-60;
+
+// The pair's extent is the largest of both shapes' bounding radii and the
+// distance (largest coordinate) between their origins. A pair is in range
+// when that extent is zero (coincident points) or at least min_pair_extent.
+// Every query answers invalid_input for a pair out of range. Costs two
+// bounding radii; the distance between origins only when both are tiny.
+bool pair_in_range(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b);
 
 struct IntersectResult {
   Status status = Status::ok;

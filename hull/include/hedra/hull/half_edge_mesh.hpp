@@ -258,10 +258,12 @@ class HalfEdgeMesh {
   // use `tolerance` (default: tolerance()). Never loops forever on a corrupt
   // structure. Convexity is checked locally at every edge (the vertices next
   // to the edge in the neighbouring face lie behind the face's plane), which
-  // for a closed, consistently oriented surface implies global convexity;
-  // `exhaustive` adds that each face winds exactly once (no star polygons)
-  // and the global check that every vertex is behind every face plane (brute force when V * F <= 5e7, otherwise by
-  // hill-climbing to each face normal's extreme vertex, exact once local convexity holds).
+  // for a closed, consistently oriented surface implies global convexity,
+  // and each face must wind exactly once around its normal (no star polygon,
+  // no sliver whose turns cancel). `exhaustive` adds the global check that
+  // every vertex is behind every face plane (brute force when V * F <= 5e7,
+  // otherwise by hill-climbing to each face normal's extreme vertex, exact
+  // once local convexity holds). Without it the checks are O(E).
   ValidationReport validate() const { return validate(tolerance_); }
   ValidationReport validate(double tolerance, bool exhaustive = true) const;
 
