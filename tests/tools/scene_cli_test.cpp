@@ -141,6 +141,26 @@ TEST_F(SceneCli, SizesAndPositionsOutOfRange) {
   expect_bad({"query", wide}, {wide + ": shapes.ball", "more than 1e60 apart"});
 }
 
+// A pair within 1e-60 (sizes and distance; squares underflow) is refused by
+// the library's queries (min_pair_extent): bad input for the tool, named by
+// its query, not a table of invalid_input with exit code 0. A tiny ball far
+// from the other, or two coincident points, are answered.
+TEST_F(SceneCli, PairsBelowTheMinimumExtent) {
+  const std::string tiny = write(
+      "tiny.json", scene(R"({"ball": {"type": "sphere", "radius": 1e-300}, "big": {"type": "sphere", "radius": 1}})",
+                         R"({"p": {"shape": "ball"}, "q": {"shape": "ball", "position": [1e-300, 0, 0]},
+                "r": {"shape": "big", "position": [5, 0, 0]}})",
+                         R"([{"a": "p", "b": "r", "type": "distance"}, {"a": "p", "b": "q", "type": "penetration"}])"));
+  expect_bad({"query", tiny}, {tiny + ": queries[1]: bodies 'p' and 'q' fit within 1e-60"});
+  const std::string apart =
+      write("apart.json", scene(R"({"ball": {"type": "sphere", "radius": 1e-300}})", kTwoBallBodies, kBallQuery));
+  EXPECT_NEAR(run_json({"query", apart, "--json"})["results"][0]["distance"].get<double>(), 5.0, 1e-15);
+  const std::string points =
+      write("points.json", scene(R"({"ball": {"type": "sphere", "radius": 0}})",
+                                 R"({"p": {"shape": "ball"}, "q": {"shape": "ball"}})", kBallQuery));
+  EXPECT_EQ(run_json({"query", points, "--json"})["results"][0]["status"], "ok");
+}
+
 TEST_F(SceneCli, WrongValueTypes) {
   const std::string file =
       write("t.json", scene(R"({"ball": {"type": "sphere", "radius": "1"}})", kTwoBallBodies, kBallQuery));
