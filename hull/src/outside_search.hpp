@@ -16,7 +16,8 @@
 // Adapter requirements (A):
 //   std::size_t face_count() const;   bool live(Index f) const;
 //   const Eigen::Vector3d& normal(Index f) const;   double offset(Index f) const;
-//   template <class Fn> void for_each_neighbor(Index f, Fn&& fn) const;
+//   template <class Fn> void for_each_neighbor(Index f, Fn&& fn) const;   // across edges
+//   template <class Fn> void for_each_corner_face(Index f, Fn&& fn) const;  // around f's vertices
 #pragma once
 
 #include <algorithm>
@@ -72,10 +73,25 @@ class OutsideSearch {
       // wedge 7e-10 thick, a point 1.3e-8 outside its end face reported as
       // inside). The true exit face is across an edge of the chosen one, so
       // its ring decides.
-      a_.for_each_neighbor(face, [&](Index nb) {
+      const Index exit = face;
+      const double behind = -best_d;
+      const auto consider = [&](Index nb) {
         const double d = distance(nb, p);
         if (d > best_d) best_d = d, face = nb;
-      });
+      };
+      a_.for_each_neighbor(exit, consider);
+      // Where the ray passes within rounding of a vertex, the faces around
+      // it tie, and the one chosen may share only that vertex with the face
+      // p is outside of (found by fuzzing: near-duplicates on a ray 1.5e6
+      // from the origin, 2.5e-8 outside a face through the outermost one).
+      // Missing that face needs the ratios of the two faces to agree within
+      // their rounding, which bounds how far p can be behind the chosen one:
+      // within that reach (generously, 1024 ulps of the coordinates), the
+      // faces around the chosen face's corners decide. Points deeper inside
+      // pay nothing more.
+      const double reach = 1024 * std::numeric_limits<double>::epsilon() *
+                           (p.cwiseAbs().sum() + c_.cwiseAbs().sum() + std::abs(a_.offset(exit)) + height_[exit]);
+      if (!(best_d > 0) && behind <= reach) a_.for_each_corner_face(exit, consider);
       if (!(best_d > 0)) return {kInvalidIndex, 0.0};
     }
     Index best = face;

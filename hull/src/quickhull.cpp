@@ -655,6 +655,20 @@ struct QuickhullBuilder::Impl {
         e = q->edges[e].next;
       } while (e != q->faces[f].edge && ++guard <= q->edges.size());
     }
+    template <class Fn>
+    void for_each_corner_face(Index f, Fn&& fn) const {
+      Index e = q->faces[f].edge;
+      std::size_t guard = 0;
+      do {
+        // The faces around origin(e): its outgoing edges, turning by twin.next.
+        Index around = e;
+        do {
+          fn(q->edges[around].face);
+          around = q->edges[q->edges[around].twin].next;
+        } while (around != e && ++guard <= q->edges.size());
+        e = q->edges[e].next;
+      } while (e != q->faces[f].edge && ++guard <= q->edges.size());
+    }
   };
   detail::OutsideSearch<WorkFaces> outside_search;
 
@@ -1109,6 +1123,17 @@ struct MeshFaces {
   template <class Fn>
   void for_each_neighbor(Index f, Fn&& fn) const {
     for (Index n : m->face_neighbors(f)) fn(n);
+  }
+  template <class Fn>
+  void for_each_corner_face(Index f, Fn&& fn) const {
+    std::size_t guard = 0;
+    for (Index e : m->face_edges(f)) {
+      Index around = e;
+      do {
+        fn(m->left_face(around));
+        around = m->rotate_cw(around);
+      } while (around != e && ++guard <= m->edges.size());
+    }
   }
 };
 }  // namespace

@@ -671,6 +671,76 @@ TEST(QuickhullDegenerate, NearDuplicatesOnARayWithOneMorePointGiveAValidHull) {
   EXPECT_EQ(dimension_counts[0], 0);
 }
 
+// Root cause (found by fuzzing): the search for the face a point is in front
+// of (outside_search.hpp) follows the ray from an interior point; where that
+// ray passes within rounding of a vertex, the faces around the vertex tie,
+// and the one chosen shared only the vertex with the face the point was
+// 2.5e-8 (25 eps) outside of, so the point was never re-inserted. Here:
+// near-duplicates on a ray 1.5e6 from the origin, a face through the
+// outermost one. The faces around the chosen face's corners now decide when
+// the point is within rounding reach of its plane.
+TEST(QuickhullDegenerate, PointOutsideAFaceSharingOnlyAVertexWithTheExitFace) {
+  const Points points = {
+      {449998.1875, 1450000, 1450000},
+      {449998.18750000081, 1450000.0000000026, 1450000.0000000026},
+      {449999, 449999, 449999},
+      {449998.18750001281, 1450000.0000000412, 1450000.0000000412},
+      {449999, 449999, 449999},
+      {449998.18750001281, 1450000.0000000412, 1450000.0000000412},
+      {449999, 449999, 449999},
+      {449998.18750002561, 1450000.0000000824, 1450000.0000000824},
+      {449999, 449999, 449999},
+      {449998.18750002561, 1450000.0000000824, 1450000.0000000824},
+      {449999, 449999, 449999},
+      {449999.00000001281, 449999.00000001281, 449999.00000001281},
+      {449999, 449999, 449999},
+      {449999.00000001281, 449999.00000001281, 449999.00000001281},
+      {449999, 449999, 449999},
+      {449998.18750002643, 1450000.000000085, 1450000.000000085},
+      {1450000, 1450000, 1450000},
+      {449999.00000000081, 449999.00000000081, 449999.00000000081},
+      {1450000, 450000, 449998.1875},
+      {449999.00000000081, 449999.00000000081, 449999.00000000081},
+      {1450000, 1450000, 1450000.000001},
+      {449998.18750002724, 1450000.0000000875, 1450000.0000000875},
+      {1450000, 450000, 450000},
+      {449998.18750000012, 1450000.0000000002, 1450000.0000000002},
+      {450000, 449997.625, 449997.625},
+      {449998.18750002683, 1450000.0000000864, 1450000.0000000864},
+      {449997.625, 449997.625, 449997.625},
+      {449998.18750002602, 1450000.0000000838, 1450000.0000000838},
+      {449997.625, 449997.625, 449997.625},
+      {449998.18750001321, 1450000.0000000426, 1450000.0000000426},
+      {449997.625, 449997.625, 449997.625},
+      {449997.62500000041, 449997.62500000041, 449997.62500000041},
+      {449997.625, 449997.625, 449997.625},
+      {450000.00000000041, 449997.62500000041, 449997.62500000041},
+      {449999.625, 449997.625, 449997.625},
+      {1450000.0000000102, 1450000.0000000102, 1450000.0000010103},
+      {449997.625, 449997.625, 449997.625},
+      {449998.18750000652, 1450000.000000021, 1450000.000000021},
+      {450000, 450000, 450000},
+      {450000.375, 450000.375, 450000.375},
+      {450000.375, 450000.375, 450000.375},
+      {450000.375, 450000.375, 450000.375},
+      {450000.125, 449992, 450000},
+      {449998.18750000012, 1450000.0000000002, 1450000.0000000002},
+      {450000, 450000, 450000},
+      {449998.18750000041, 1450000.0000000014, 1450000.0000000014},
+      {449997.625, 450000, 450000},
+      {449998.18750000012, 1450000.0000000002, 1450000.0000000002},
+  };
+  const QuickhullResult r = hull_of(points);
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_TRUE(r.mesh.validate().ok());
+  EXPECT_LE(hull::max_outside_distance(r.mesh, points), r.mesh.tolerance());
+  // Brute force over every face, independent of the search.
+  double worst = 0;
+  for (const auto& p : points)
+    for (hull::Index f = 0; f < r.mesh.face_count(); ++f) worst = std::max(worst, r.mesh.plane(f).signed_distance(p));
+  EXPECT_LE(worst, r.mesh.tolerance());
+}
+
 TEST(QuickhullDegenerate, NearDuplicateClustersKeepEveryCorner) {
   for (std::uint64_t seed : {1u, 2u, 3u, 4u}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
