@@ -7,8 +7,10 @@
 #include "scene.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <hedra/hull/mesh_io.hpp>
@@ -505,9 +507,12 @@ LoadSceneResult load_scene(const std::string& path) {
     result.error = path + ": is a directory, expected a scene file";
     return result;
   }
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    result.error = path + ": cannot open";
+    // The reason, as the point-file reader gives it (errno of the failed open).
+    const int error = errno;
+    result.error = path + ": cannot open: " + (error != 0 ? std::strerror(error) : "unknown error");
     return result;
   }
   std::ostringstream buffer;

@@ -35,20 +35,27 @@ auto timed(int repeat, double& time_ns, Call&& call) {
 
 bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
 
+// Zero without its sign: a touching pair's signed distance is -(0 depth) =
+// -0, which readers of the output would take for a (tiny) penetration.
+double unsigned_zero(double x) { return x == 0.0 ? 0.0 : x; }
+Eigen::Vector3d unsigned_zero(const Eigen::Vector3d& v) {
+  return {unsigned_zero(v.x()), unsigned_zero(v.y()), unsigned_zero(v.z())};
+}
+
 // Fills the geometric outputs, keeping only finite ones: a non-finite value
 // is dropped and reported as status "non_finite" (never printed as NaN).
 void set_geometry(QueryOutcome& out, double distance, const Eigen::Vector3d& normal, const Eigen::Vector3d& point_a,
                   const Eigen::Vector3d& point_b, bool with_normal) {
   if (std::isfinite(distance)) {
-    out.distance = distance;
+    out.distance = unsigned_zero(distance);
   } else if (out.ok()) {
     out.status = "non_finite";
   }
   if (!with_normal) return;
   if (finite(normal) && finite(point_a) && finite(point_b) && normal.squaredNorm() > 0.0) {
-    out.normal = normal;
-    out.point_a = point_a;
-    out.point_b = point_b;
+    out.normal = unsigned_zero(normal);
+    out.point_a = unsigned_zero(point_a);
+    out.point_b = unsigned_zero(point_b);
   } else if (out.ok()) {
     out.status = "non_finite";
   }
@@ -156,7 +163,7 @@ QueryOutcome run_contact(const collision::Shape& a, const collision::Pose& pa, c
         if (out.ok()) out.status = "non_finite";
         continue;
       }
-      out.contacts.push_back({c.point, c.depth});
+      out.contacts.push_back({unsigned_zero(c.point), unsigned_zero(c.depth)});
     }
   }
   return out;

@@ -159,6 +159,15 @@ TEST_F(SceneCli, PairsBelowTheMinimumExtent) {
       write("points.json", scene(R"({"ball": {"type": "sphere", "radius": 0}})",
                                  R"({"p": {"shape": "ball"}, "q": {"shape": "ball"}})", kBallQuery));
   EXPECT_EQ(run_json({"query", points, "--json"})["results"][0]["status"], "ok");
+  // Touching: a signed distance of zero, printed without a sign (-(0 depth)
+  // would read as a penetration).
+  const std::string touching = write("touching.json", scene(R"({"ball": {"type": "sphere", "radius": 0}})",
+                                                            R"({"p": {"shape": "ball"}, "q": {"shape": "ball"}})",
+                                                            R"([{"a": "p", "b": "q", "type": "penetration"}])"));
+  const auto printed = run({"query", touching, "--json"});
+  ASSERT_EQ(printed.exit_code, 0) << printed.err;
+  EXPECT_NE(printed.out.find(R"("distance":0.0)"), std::string::npos) << printed.out;
+  EXPECT_EQ(printed.out.find("-0.0"), std::string::npos) << printed.out;
 }
 
 TEST_F(SceneCli, WrongValueTypes) {
@@ -275,7 +284,8 @@ TEST_F(SceneCli, OneBadSceneFailsTheWholeCheck) {
   const std::string good = write("good.json", scene(kTwoBalls, kTwoBallBodies, kBallQuery));
   const std::string bad = write("bad.json", scene(R"({"ball": {"type": "sphere"}})", kTwoBallBodies, kBallQuery));
   expect_bad({"check", good, bad}, {bad + ": shapes.ball"});
-  expect_bad({"check", good, (work_ / "absent.json").string()}, {"absent.json: cannot open"});
+  expect_bad({"check", good, (work_ / "absent.json").string()},
+             {"absent.json: cannot open: No such file or directory"});
 }
 
 // ---- results ----------------------------------------------------------------
