@@ -245,7 +245,17 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
       if (!(len2 > tol2 * e_a.squaredNorm() * e_b2)) return false;  // nearly parallel (or NaN)
       n /= std::sqrt(len2);
       const Eigen::Vector3d& pa = a.vertex(ma.origin(ea));
-      if (n.dot(pa) < 0.0) n = -n;  // away from A's centroid, the core origin
+      // Oriented as the point where the two Gauss-map arcs cross: it lies on
+      // A's arc (na, nb) and on -B's arc (c, d) with non-negative weights,
+      // so its dot with na + nb + c + d is positive. Not "away from A's
+      // centroid": an edge through the centroid (a box with zero extents,
+      // a flat hull) leaves that sign to rounding (found by fuzzing: a
+      // segment-like box touching a hull read as 4.6e-4 apart). Both arcs
+      // half circles (two flat shapes: the sum is rounding noise of unit
+      // normals, ~1e-16, far below 1e-6): the centroid rule.
+      const Eigen::Vector3d chords = na + nb + c + d;
+      const bool by_arcs = chords.squaredNorm() > 1e-12;
+      if ((by_arcs ? n.dot(chords) : n.dot(pa)) < 0.0) n = -n;
       const double s = n.dot(pb - pa);
       if (s > out.edge.separation) {
         out.edge.kind = SatAxisKind::edge;

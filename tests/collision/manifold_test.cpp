@@ -243,6 +243,60 @@ TEST(Manifold, RandomHullPairsMatchTheExactDepthAndLieOnBothSurfaces) {
   EXPECT_GT(edges, 0);
 }
 
+// Root cause (found by fuzzing): SAT oriented an edge-edge axis "away from
+// A's centroid", a sign left to rounding when A's edge passes through the
+// centroid (a box with zero extents, a flat hull); the axis came out
+// reversed and a segment-like box touching a hull read as 4.6e-4 apart. The
+// axis is now oriented by the Gauss-map arcs it crosses. Checked: the
+// finding, then boxes with one or two zero extents and flat hulls against
+// random hulls: a separation contact() reports is never above the signed
+// distance (beyond the face bias), and it never says apart when the exact
+// depth is beyond that bias.
+TEST(Manifold, EdgeAxesThroughADegenerateShapesCentreAreOrientedByTheGaussMap) {
+  const auto tetra = make_hull(
+      {Vec(-0.00053125, 0, 0.0011875), Vec(3.125e-05, -0.0005, 0), Vec(0.0019375, 0.0019375, 3.125e-05), Vec(0, 0, 0)});
+  const ContactResult finding =
+      contact(Box{Vec(0.0005, 0, 0), 0.0}, Pose::identity(), Polyhedron{tetra, 0.0}, Pose::identity());
+  ASSERT_EQ(finding.status, Status::ok);
+  EXPECT_TRUE(finding.intersecting);
+  EXPECT_LE(finding.distance, 1e-15);
+
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const ContactSettings settings;
+  int checked = 0, overlapping = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    Shape a;
+    if (trial % 3 == 0) {
+      a = Box{Vec(0.6, 0.0, 0.0), 0.0};  // a segment
+    } else if (trial % 3 == 1) {
+      a = Box{Vec(0.6, 0.4, 0.0), 0.0};  // a rectangle
+    } else {
+      std::vector<Vec> flat;
+      for (int k = 0; k < 12; ++k) flat.emplace_back(0.6 * u(rng), 0.5 * u(rng), 0.0);
+      a = Polyhedron{make_hull(flat), 0.0};  // a flat polygon
+    }
+    const auto hb = make_hull(random_points(rng, 6 + trial % 20, Vec(0.5, 0.4, 0.3)));
+    const Shape b = Polyhedron{hb, 0.0};
+    const Pose pa = Pose::from_quaternion(Eigen::Quaterniond::UnitRandom(), Vec::Zero());
+    const Pose pb = Pose::from_quaternion(Eigen::Quaterniond::UnitRandom(), 0.8 * random_unit(rng));
+    const ContactResult c = contact(a, pa, b, pb, nullptr, settings);
+    const PenetrationResult p = penetration(a, pa, b, pb);
+    if (c.status != Status::ok || p.status != Status::ok) continue;
+    ++checked;
+    const double scale = 1.0;
+    const double bias = settings.relative_bias * std::abs(p.distance) + settings.absolute_bias * 2.0 * scale +
+                        1e-9 * scale + p.error_bound;
+    if (!c.intersecting) EXPECT_LE(c.distance, p.distance + bias) << trial;
+    if (p.distance < -bias) {
+      ++overlapping;
+      EXPECT_TRUE(c.intersecting) << trial << " depth " << -p.distance << " contact distance " << c.distance;
+    }
+  }
+  EXPECT_GT(checked, 2900);
+  EXPECT_GT(overlapping, 300);
+}
+
 TEST(Manifold, CapsuleLyingOnABoxGivesTwoPoints) {
   const Shape box = Box{{2.0, 2.0, 1.0}}, capsule = Capsule{0.8, 0.25};
   const Pose pc = rotated(Vec::UnitY(), M_PI / 2, Vec(0.1, 0.3, 1.24));  // axis along x, 0.01 deep
