@@ -55,7 +55,7 @@ bool make_shape(hedra::fuzz::FuzzInput& in, Shape& shape) {
       return true;
     case 1:
       shape = hedra::collision::Box{
-          Vec(size_value(in, allow_bad), size_value(in, allow_bad), size_value(in, allow_bad)), margin};
+          Vec{size_value(in, allow_bad), size_value(in, allow_bad), size_value(in, allow_bad)}, margin};
       return true;
     case 2:
       shape = hedra::collision::Capsule{size_value(in, allow_bad), size_value(in, allow_bad), margin};
@@ -69,7 +69,7 @@ bool make_shape(hedra::fuzz::FuzzInput& in, Shape& shape) {
     default: {
       const double scale = size_value(in, false);
       std::vector<Vec> points(1 + in.byte() % 12);
-      for (Vec& p : points) p = Vec(in.finite_double(4.0), in.finite_double(4.0), in.finite_double(4.0)) * scale;
+      for (Vec& p : points) p = Vec{in.finite_double(4.0), in.finite_double(4.0), in.finite_double(4.0)} * scale;
       const auto built = hedra::collision::ConvexPolyhedron::build(points);
       if (!built.ok()) {
         // Only a widest span under hull::min_input_extent (coordinates that
@@ -89,15 +89,19 @@ bool make_shape(hedra::fuzz::FuzzInput& in, Shape& shape) {
   }
 }
 
+// Every multi-value read below is a braced list, evaluated left to right:
+// the arguments of a call are evaluated in an unspecified order (GCC right
+// to left, clang left to right), and the GCC replay driver then decoded a
+// libFuzzer finding into another pair.
 Pose make_pose(hedra::fuzz::FuzzInput& in) {
   Eigen::Quaterniond q;
   if (in.byte() % 16 == 0) {
-    q = Eigen::Quaterniond(in.any_double(), in.any_double(), in.any_double(), in.any_double());
+    q = Eigen::Quaterniond{in.any_double(), in.any_double(), in.any_double(), in.any_double()};
   } else {
-    q = Eigen::Quaterniond(in.finite_double(2.0), in.finite_double(2.0), in.finite_double(2.0), in.finite_double(2.0));
+    q = Eigen::Quaterniond{in.finite_double(2.0), in.finite_double(2.0), in.finite_double(2.0), in.finite_double(2.0)};
     if (q.squaredNorm() == 0.0) q = Eigen::Quaterniond::Identity();
   }
-  Vec t(in.finite_double(8.0), in.finite_double(8.0), in.finite_double(8.0));
+  Vec t{in.finite_double(8.0), in.finite_double(8.0), in.finite_double(8.0)};
   if (in.byte() % 8 == 0) t += Vec::Constant(std::pow(10.0, in.byte() % 7));  // up to 1e6 from the origin
   if (in.byte() % 32 == 0) t.x() = in.any_double();
   return Pose::from_quaternion(q, t);
