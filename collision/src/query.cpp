@@ -5,6 +5,7 @@
 #include <cmath>
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/revolution.hpp>
+#include <limits>
 #include <utility>
 
 namespace hedra::collision {
@@ -213,7 +214,17 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
     // GJK's answer is valid too: EPA's replaces it when it converged and
     // either GJK's normal is rounding noise (|v| within the band) or EPA's
     // certified error is smaller (GJK stalls on curved cores near contact).
-    const bool epa_better = e.status == EpaStatus::ok && (g.distance <= band || e.error_bound <= g.error_bound);
+    // And only when the two agree: GJK's lower bound, v . w / |v| with w an
+    // exact support point, survives rounding to a few eps of the scale,
+    // while EPA's planes on slivers do not (found by fuzzing: a needle of
+    // aspect 1.3e9 1.66e-6 from a segment, GJK certifying >= 1.23e-6 and
+    // EPA claiming an overlap of 7e-10 with a zero bound). An EPA answer
+    // whose certified interval lies below GJK's certified separation is
+    // rounding, not an answer.
+    const double rounding = 64.0 * std::numeric_limits<double>::epsilon() * p.scale;
+    const bool agrees = -e.depth + e.error_bound >= g.lower_bound - rounding;
+    const bool epa_better =
+        e.status == EpaStatus::ok && agrees && (g.distance <= band || e.error_bound <= g.error_bound);
     if (overlap_possible || epa_better) {
       out.status = to_status(e.status);
       if (e.status == EpaStatus::degenerate) return out;
