@@ -256,12 +256,13 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
 }  // namespace
 
 bool pair_in_range(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
-  if (std::max(bounding_radius(a), bounding_radius(b)) >= min_pair_extent) return true;
+  const double radius = std::max(bounding_radius(a), bounding_radius(b));
+  if (radius >= min_pair_extent) return true;
   const auto origin = [](const Shape& s, const Pose& pose) {
     return std::visit([&](const auto& shape) { return pose.apply(core_offset(shape)); }, s);
   };
   const double reach = (origin(b, pose_b) - origin(a, pose_a)).cwiseAbs().maxCoeff();
-  return reach >= min_pair_extent || (reach == 0.0 && std::max(bounding_radius(a), bounding_radius(b)) == 0.0);
+  return reach >= min_pair_extent || (reach == 0.0 && radius == 0.0);
 }
 
 IntersectResult intersect(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, GjkCache* cache,
