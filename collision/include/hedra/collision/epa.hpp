@@ -164,28 +164,9 @@ Vertex support(const A& a, const B& b, const Eigen::Vector3d& d) {
 // gives an infinite or NaN difference), and w also catches an overflow.
 inline bool finite(const Vertex& v) { return v.w.allFinite(); }
 
-// a . b and a x b written out per coordinate, in Eigen's order for one
-// 3-vector (dot: (a0 b0 + a1 b1) + a2 b2), so the results are the same bits;
-// Eigen's SSE2 code for a lone 3-vector (a packet of two, shuffles, a scalar
-// third) costs more instructions in EPA's inner loops.
-inline double dot3(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return (a.x() * b.x() + a.y() * b.y()) + a.z() * b.z();
-}
-inline Eigen::Vector3d cross3(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return {a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(), a.x() * b.y() - a.y() * b.x()};
-}
-
-// Twice the area vector of triangle p0 p1 p2, from the two edges that meet
-// opposite the longest one (the most accurate pair: the rounding error of
-// e_i x e_j grows with |e_i| |e_j|). All three pairs are the same vector in
-// exact arithmetic.
-inline Eigen::Vector3d area_vector(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) {
-  const Eigen::Vector3d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
-  const double l0 = dot3(e0, e0), l1 = dot3(e1, e1), l2 = dot3(e2, e2);
-  if (l0 >= l1 && l0 >= l2) return cross3(e1, e2);
-  if (l1 >= l2) return cross3(e2, e0);
-  return cross3(e0, e1);
-}
+using gjk_detail::area_vector;
+using gjk_detail::cross3;
+using gjk_detail::dot3;
 
 // Parameter in [0, 1] of the point of segment p0 p1 closest to x.
 inline double segment_parameter(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& x) {
