@@ -225,7 +225,26 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
     const bool agrees = -e.depth + e.error_bound >= g.lower_bound - rounding;
     const bool epa_better =
         e.status == EpaStatus::ok && agrees && (g.distance <= band || e.error_bound <= g.error_bound);
-    if (overlap_possible || epa_better) {
+    // EPA stalled (rounding), and GJK's own bracket of the signed distance,
+    // [signed lower bound, |v|], is narrower than EPA's error bound: GJK's
+    // answer is the better one, the upper end |v| with normal -v/|v| (found
+    // on needles of aspect 1e9 a hair apart: GJK converged with |v| below
+    // its tolerance, EPA's first polytope was a sliver and it stalled). It
+    // is ok when the bracket is within GJK's tolerance; stalled, with the
+    // bracket as its bound, otherwise. (A cap or a full polytope keeps its
+    // own status: the caller asked for the cap, and a deep pair's bracket
+    // is wide anyway.)
+    const double vn = g.v.norm();
+    const double gjk_gap = vn - g.signed_lower_bound;
+    if (e.status == EpaStatus::stalled && g.status == GjkStatus::ok && vn > 0.0 && gjk_gap < e.error_bound) {
+      const double tolerance =
+          std::max(settings.gjk.relative_tolerance * vn, settings.gjk.absolute_tolerance * p.scale);
+      out.status = gjk_gap <= tolerance ? Status::ok : Status::stalled;
+      core_distance = vn;
+      n = -g.v / vn;
+      out.error_bound = gjk_gap;
+      answered = true;
+    } else if (overlap_possible || epa_better) {
       out.status = to_status(e.status);
       if (e.status == EpaStatus::degenerate) return out;
       core_distance = -e.depth;

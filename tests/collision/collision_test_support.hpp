@@ -14,6 +14,7 @@
 #include <hedra/collision/minkowski.hpp>
 #include <hedra/collision/shapes.hpp>
 #include <hedra/collision/support.hpp>
+#include <limits>
 #include <memory>
 #include <qhull_reference.hpp>
 #include <random>
@@ -133,6 +134,43 @@ inline double segment_distance(const Vec& p0, const Vec& p1, const Vec& q0, cons
     if (s >= 0 && s <= 1 && t >= 0 && t <= 1) best = std::min(best, (w + s * u - t * v).norm());
   }
   return best;
+}
+
+// A needle tetrahedron (length 1..1e3, aspect 1e4..1e10: within h of the
+// x axis in its frame) posed at random, and a point `gap` (0.1 h .. 10 h)
+// above the interior of its top face (z = 0 in its frame), so the distance
+// is `gap` by construction. `slack` covers the rounding of the posed
+// vertices (64 eps of the coordinates).
+struct NeedleAndPoint {
+  std::vector<Vec> needle;  // world vertices
+  Vec point;                // world
+  double gap = 0.0;
+  double length = 0.0;
+  double slack = 0.0;
+};
+
+inline NeedleAndPoint needle_and_point_above_it(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> g(0.0, 1.0);
+  NeedleAndPoint c;
+  c.length = std::pow(10.0, 3.0 * u(rng));
+  const double h = c.length * std::pow(10.0, -4.0 - 6.0 * u(rng));
+  c.gap = h * std::pow(10.0, -1.0 + 2.0 * u(rng));
+  const double s = 0.2 + 0.6 * u(rng);
+  const double length = c.length;
+  const std::vector<Vec> local = {
+      {-length * s, 0, 0}, {length * (1 - s), 0, 0}, {0, h, 0}, {0.1 * length, 0.5 * h, -h}};
+  const double x = length * (-s + u(rng));
+  const double y_max = h * (x < 0 ? 1 + x / (length * s) : 1 - x / (length * (1 - s)));
+  const Vec above(x, y_max * (0.05 + 0.9 * u(rng)), c.gap);
+  // Braced lists: their arguments are drawn in order on every compiler.
+  const Eigen::Quaterniond q{g(rng), g(rng), g(rng), g(rng)};
+  const Vec t = length * Vec{g(rng), g(rng), g(rng)};
+  const Eigen::Matrix3d r = q.normalized().toRotationMatrix();
+  for (const Vec& p : local) c.needle.push_back(r * p + t);
+  c.point = r * above + t;
+  c.slack = 64 * std::numeric_limits<double>::epsilon() * (length + t.cwiseAbs().maxCoeff());
+  return c;
 }
 
 }  // namespace hedra::collision::testing

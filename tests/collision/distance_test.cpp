@@ -565,42 +565,26 @@ TEST(GjkHardCases, SliverTrianglesKeepTheClosestPointOnTheDifference) {
     }
   }
   std::mt19937_64 rng(21);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::normal_distribution<double> g(0.0, 1.0);
   for (int i = 0; i < 4000; ++i) {
-    const double length = std::pow(10.0, 3.0 * u(rng));             // 1 .. 1e3
-    const double h = length * std::pow(10.0, -4.0 - 6.0 * u(rng));  // aspect 1e4 .. 1e10
-    const double gap = h * std::pow(10.0, -1.0 + 2.0 * u(rng));     // 0.1 h .. 10 h
-    const double s = 0.2 + 0.6 * u(rng);
-    // Face z = 0 on top; the point above its interior at height `gap`.
-    const std::vector<Vec> local = {
-        {-length * s, 0, 0}, {length * (1 - s), 0, 0}, {0, h, 0}, {0.1 * length, 0.5 * h, -h}};
-    const double x = length * (-s + u(rng));
-    const double y_max = h * (x < 0 ? 1 + x / (length * s) : 1 - x / (length * (1 - s)));
-    const Vec above(x, y_max * (0.05 + 0.9 * u(rng)), gap);
-    const Pose pose =
-        Pose::from_quaternion(Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)), length * Vec(g(rng), g(rng), g(rng)));
-    std::vector<Vec> world;
-    for (const Vec& p : local) world.push_back(pose.apply(p));
-    const Shape needle = Polyhedron{make_hull(world), 0.0};
+    const NeedleAndPoint c = needle_and_point_above_it(rng);
+    const Shape needle = Polyhedron{make_hull(c.needle), 0.0};
     const Shape point = Sphere{0.0, 0.0};
-    const Pose at = Pose::from_translation(pose.apply(above));
-    const double slack = 64 * eps * (length + pose.translation.cwiseAbs().maxCoeff());
+    const Pose at = Pose::from_translation(c.point);
     for (const bool swapped : {false, true}) {
       const DistanceResult d =
           swapped ? distance(point, at, needle, Pose::identity()) : distance(needle, Pose::identity(), point, at);
       ASSERT_EQ(d.status, Status::ok) << i;
       if (d.intersecting) {
         // Touching within GJK's absolute tolerance (1e-10 of the size).
-        EXPECT_LE(gap, 1e-10 * length + slack) << i;
+        EXPECT_LE(c.gap, 1e-10 * c.length + c.slack) << i;
       } else {
-        EXPECT_NEAR(d.distance, gap, d.error_bound + slack) << i << " " << swapped;
+        EXPECT_NEAR(d.distance, c.gap, d.error_bound + c.slack) << i << " " << swapped;
       }
     }
   }
 }
 
-// triangle_normal() on slivers (aspect up to 1e12, far from the origin):
+// area_vector() on slivers (aspect up to 1e12, far from the origin):
 // orthogonal to every edge within rounding of the coordinates. (Without the
 // projection off the longest edge, n . e_longest / |n| reaches eps L^2 / h.)
 TEST(GjkSubAlgorithm, TriangleNormalOfASliverIsOrthogonalToItsEdges) {
@@ -614,7 +598,7 @@ TEST(GjkSubAlgorithm, TriangleNormalOfASliverIsOrthogonalToItsEdges) {
     const double h = length * std::pow(10.0, -12.0 * u(rng));
     const std::array<Vec, 3> p = {offset - length * u(rng) * along, offset + length * u(rng) * along,
                                   offset + (length * (u(rng) - 0.5)) * along + h * across};
-    const Vec n = gjk_detail::triangle_normal(p[0], p[1], p[2]);
+    const Vec n = gjk_detail::area_vector(p[0], p[1], p[2]);
     ASSERT_GT(n.squaredNorm(), 0.0) << i;
     const double coordinates =
         std::max({p[0].cwiseAbs().maxCoeff(), p[1].cwiseAbs().maxCoeff(), p[2].cwiseAbs().maxCoeff()});

@@ -124,7 +124,14 @@ struct GjkResult {
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();
   Eigen::Vector3d v = Eigen::Vector3d::Zero();  // point_a - point_b: last search axis
   double lower_bound = 0.0;                     // certified: true distance >= lower_bound
-  double error_bound = 0.0;                     // distance - lower_bound (duality gap / |v|)
+  // Certified: the cores' signed distance (minus the depth when they
+  // overlap) >= signed_lower_bound, the best v . w / |v| of all iterations
+  // unclamped (-h(-v/|v|) of the difference, a lower bound whatever its
+  // sign); -infinity before the first iteration. With |v| it brackets a
+  // touching pair: |v| - signed_lower_bound within the tolerance means the
+  // signed distance is known to it, overlapping or not.
+  double signed_lower_bound = -std::numeric_limits<double>::infinity();
+  double error_bound = 0.0;  // distance - lower_bound (duality gap / |v|)
   int iterations = 0;
   int support_calls = 0;  // evaluations of the Minkowski difference's support (one per iteration, plus the first)
   GjkSimplex simplex;
@@ -204,40 +211,32 @@ inline Eigen::Vector3d cross3(const Eigen::Vector3d& a, const Eigen::Vector3d& b
 }
 
 // Twice the area vector of triangle p0 p1 p2 (normal, length twice the
-// area): the cross product of the two edges that meet opposite the longest
-// one (the most accurate pair: the rounding of e_i x e_j grows with
-// |e_i| |e_j|). All three pairs give the same vector in exact arithmetic.
-// With kOffLongestEdge, its component along the longest edge is then
-// removed, which keeps the direction accurate on slivers. Why: on a sliver
-// (length L, height h) the cross product's rounding, eps L^2, is eps L / h
-// of its length and tilts it in any direction; a tilt about an axis across
-// the triangle moves the plane by L times the tilt at the triangle's ends
-// (found by fuzzing: on a needle of aspect 1.3e9, 2280 long, GJK's v left
-// the Minkowski difference by 3.8e-7 and the distance came out 1.28e-6 for
-// 1.66e-6, "ok" with a bound of 5e-8). After the projection the normal is
-// orthogonal to the longest edge to rounding; what remains is a tilt about
-// that edge, which moves the triangle's points (all within h of the edge's
-// line) by at most eps L.
-template <bool kOffLongestEdge = false>
+// area), accurate in direction on slivers too: the cross product of the two
+// edges that meet opposite the longest one (the most accurate pair: the
+// rounding of e_i x e_j grows with |e_i| |e_j|; all three pairs give the
+// same vector in exact arithmetic), then its component along the longest
+// edge removed. Why: on a sliver (length L, height h) the cross product's
+// rounding, eps L^2, is eps L / h of its length and tilts it in any
+// direction; a tilt about an axis across the triangle moves the plane by L
+// times the tilt at the triangle's ends (found by fuzzing: on a needle of
+// aspect 1.3e9, 2280 long, GJK's v left the Minkowski difference by 3.8e-7
+// and the distance came out 1.28e-6 for 1.66e-6, "ok" with a bound of
+// 5e-8; EPA's face planes on needles gave "ok" depths outside their bound).
+// After the projection the normal is orthogonal to the longest edge to
+// rounding; what remains is a tilt about that edge, which moves the
+// triangle's points (all within h of the edge's line) by at most eps L.
+// Costs 1-5 % of a query's instructions (bench/penetration_profile).
 inline Eigen::Vector3d area_vector(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) {
   const Eigen::Vector3d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
   const double l0 = dot3(e0, e0), l1 = dot3(e1, e1), l2 = dot3(e2, e2);
   const bool longest0 = l0 >= l1 && l0 >= l2, longest1 = !longest0 && l1 >= l2;
+  const Eigen::Vector3d& longest = longest0 ? e0 : (longest1 ? e1 : e2);
+  const double ll = longest0 ? l0 : (longest1 ? l1 : l2);
   Eigen::Vector3d n = longest0 ? cross3(e1, e2) : (longest1 ? cross3(e2, e0) : cross3(e0, e1));
-  if (kOffLongestEdge) {
-    const Eigen::Vector3d& longest = longest0 ? e0 : (longest1 ? e1 : e2);
-    const double ll = longest0 ? l0 : (longest1 ? l1 : l2);
-    // ll > 0 unless all three points coincide (n = 0 then); a non-finite ll
-    // makes n non-finite, which every caller treats as degenerate.
-    if (ll > 0.0) n -= (dot3(n, longest) / ll) * longest;
-  }
+  // ll > 0 unless all three points coincide (n = 0 then); a non-finite ll
+  // makes n non-finite, which every caller treats as degenerate.
+  if (ll > 0.0) n -= (dot3(n, longest) / ll) * longest;
   return n;
-}
-
-// The triangle's normal, accurate in direction on slivers (see above).
-inline Eigen::Vector3d triangle_normal(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                                       const Eigen::Vector3d& p2) {
-  return area_vector<true>(p0, p1, p2);
 }
 
 // Triangle w[i0] w[i1] w[i2]. `newest` (one of the three indices, or -1):
@@ -247,7 +246,7 @@ inline void s2d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, int i2,
   const Eigen::Vector3d& p0 = w[i0];
   const Eigen::Vector3d& p1 = w[i1];
   const Eigen::Vector3d& p2 = w[i2];
-  const Eigen::Vector3d n = triangle_normal(p0, p1, p2);
+  const Eigen::Vector3d n = area_vector(p0, p1, p2);
   const double nn = n.squaredNorm();
   // Which edges to examine when the projection is not strictly inside: the
   // edge opposite vertex m where the m-th coordinate has the wrong sign, or
@@ -435,6 +434,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
   Eigen::Vector3d v = s.w[0];
   double vv = v.squaredNorm();
   double lower = 0.0;
+  double signed_lower = -std::numeric_limits<double>::infinity();
 
   for (;;) {
     if (vv <= zero * zero || (kBoolean && vv <= margin * margin)) {
@@ -457,6 +457,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     const double vn = length_of(v, vv);
     const double vw = v.dot(w);
     lower = std::max(lower, vw / vn);
+    signed_lower = std::max(signed_lower, vw / vn);
     if (kBoolean && vw > margin * vn) break;  // a separating axis: done
     // The certified gap: upper bound |v| minus the best lower bound.
     const double tolerance = std::max(settings.relative_tolerance * vn, abs_tolerance);
@@ -506,6 +507,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
   r.point_a = weighted(s.a, s);
   r.point_b = weighted(s.b, s);
   r.v = v;
+  r.signed_lower_bound = std::min(signed_lower, length_of(v, vv));
   if (r.intersecting) {
     r.distance = 0.0;
     r.lower_bound = 0.0;
