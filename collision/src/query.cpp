@@ -207,6 +207,35 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
     if (!overlap_possible ||
         !revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation, settings.epa, e))
       e = epa_penetration(p.core_a, placed_b, g.simplex, p.scale, p.relative.translation, settings.epa);
+    // EPA could not converge on two cores of revolution (nearly coaxial
+    // cylinders and cones: the depth is almost the same over a circle of
+    // directions, and the polytope fills up before its lower bound rises):
+    // the exact answer of the pair with B's axis made parallel to A's,
+    // within theta R_B of the true depth, brackets it as well. Combined:
+    // the larger of the two certified lower bounds, and the smallest of
+    // the certified upper bounds that come with a normal: EPA's depth (the
+    // best support value it saw) and the support value h_D of the true pair
+    // along the parallel answer's normal (every h_D(n) bounds the depth from
+    // above; this one is within theta R_B of the parallel depth).
+    if (overlap_possible && e.status != EpaStatus::ok && e.status != EpaStatus::degenerate) {
+      EpaResult r;
+      if (revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation, settings.epa, r,
+                                 true)) {
+        const Eigen::Vector3d sa = p.core_a.support(r.normal), sb = placed_b.support(-r.normal);
+        const double h = r.normal.dot(sa - sb);
+        const double lower = std::max(e.depth - e.error_bound, r.depth - r.error_bound);
+        if (std::isfinite(h) && h < e.depth) {
+          e.depth = h;
+          e.normal = r.normal;
+          e.point_a = sa;
+          e.point_b = sb;
+        }
+        e.error_bound = std::max(e.depth - lower, 0.0);
+        const double tolerance =
+            std::max(settings.epa.relative_tolerance * e.depth, settings.epa.absolute_tolerance * p.scale);
+        if (e.error_bound <= tolerance) e.status = EpaStatus::ok;
+      }
+    }
     out.epa_iterations = e.iterations;
     out.support_calls += e.support_calls;
     // Overlap possible: the signed answer, whatever its status. Touching
