@@ -702,27 +702,7 @@ TEST(PenetrationHardCases, NearlyCoaxialCurvedCoresAreBracketedByTheParallelPair
     const Pose pa{ra, Vec::Zero()}, pb{rb, t};
     const PenetrationResult r = penetration(a, pa, inner, pb);
     ASSERT_TRUE(r.intersecting) << i;
-    // The best -h_D(n) over the two kink circles (a scan, then 3 zooms).
-    double lower = -std::numeric_limits<double>::infinity();
-    for (const Vec k : {Vec(ra.col(2)), Vec(rb.col(2))}) {
-      const Vec e1 = k.unitOrthogonal(), e2 = k.cross(e1);
-      double lo = 0.0, hi = 2.0 * M_PI, best_phi = 0.0;
-      for (int zoom = 0; zoom < 4; ++zoom) {
-        const int steps = 2000;
-        for (int j = 0; j <= steps; ++j) {
-          const double phi = lo + (hi - lo) * j / steps;
-          const Vec n = std::cos(phi) * e1 + std::sin(phi) * e2;
-          const double value = -(support_value(a, pa, n) + support_value(inner, pb, -n));
-          if (value > lower) {
-            lower = value;
-            best_phi = phi;
-          }
-        }
-        const double width = 2.0 * (hi - lo) / steps;
-        lo = best_phi - width;
-        hi = best_phi + width;
-      }
-    }
+    const double lower = lower_bound_over_great_circles(a, pa, inner, pb, {Vec(ra.col(2)), Vec(rb.col(2))});
     const double slack = 1e-12;
     // Honest: the certified interval reaches the lower bound found.
     EXPECT_GE(r.distance + r.error_bound, lower - slack) << i << " tilt " << tilt;

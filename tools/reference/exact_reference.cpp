@@ -470,6 +470,94 @@ CoreAnswer core_distance(const std::vector<Vec>& a, const std::vector<Vec>& b) {
   return out;
 }
 
+// Cores of revolution with nearly parallel axes (segments, cylinders,
+// cones, single points): a bracket of the cores' signed distance from the
+// meridian section. With both axes along k, D = A - B is a solid of
+// revolution whose section (radial, axial) is the convex hull of the sums
+// of A's section points and -B's, and the origin's signed distance to D is
+// the 2D signed distance of its (radial, axial) position to that polygon.
+// The axes are parallel only to an angle theta: the core with the smaller
+// bounding radius R, turned about its centre onto the other's axis, moves
+// by at most theta R, so the true value is within theta R of the parallel
+// pair's. (hedra's revolution.hpp reduces the same way; this is a separate
+// implementation: the polygon by brute force over point pairs.) Returns
+// false when a core is not of revolution or neither is curved.
+bool meridian_bracket(const Core& a, const Core& b, double& lower, double& upper) {
+  auto section = [](const Core& c, std::vector<Eigen::Vector2d>& out, double& bounding) {
+    out.clear();
+    switch (c.kind) {
+      case Core::Kind::segment:
+        out = {{0.0, -c.half_length}, {0.0, c.half_length}};
+        bounding = c.half_length;
+        return true;
+      case Core::Kind::cylinder:
+        for (const double x : {-c.core_radius, c.core_radius})
+          for (const double y : {-c.half_length, c.half_length}) out.emplace_back(x, y);
+        bounding = std::hypot(c.core_radius, c.half_length);
+        return true;
+      case Core::Kind::cone:
+        out = {{-c.core_radius, -c.half_length}, {c.core_radius, -c.half_length}, {0.0, c.half_length}};
+        bounding = std::hypot(c.core_radius, c.half_length);
+        return true;
+      case Core::Kind::points:
+        if (c.points.size() != 1) return false;
+        out = {{0.0, 0.0}};
+        bounding = 0.0;
+        return true;
+      default:
+        return false;
+    }
+  };
+  std::vector<Eigen::Vector2d> sa, sb;
+  double ra = 0.0, rb = 0.0;
+  if (!(a.curved() || b.curved()) || !section(a, sa, ra) || !section(b, sb, rb)) return false;
+  // Centres: a point core's only point; the others' translation.
+  const Vec ca = a.kind == Core::Kind::points ? a.points[0] : a.translation;
+  const Vec cb = b.kind == Core::Kind::points ? b.points[0] : b.translation;
+  const bool a_free = a.kind == Core::Kind::points, b_free = b.kind == Core::Kind::points;
+  const Vec ka = a.rotation.col(2), kb = b.rotation.col(2);
+  // The reference axis: that of the core with the larger bounding radius
+  // (the other one is turned).
+  const bool along_a = b_free || (!a_free && ra >= rb);
+  const Vec k = along_a ? ka : kb;
+  const double sign_a = a_free || k.dot(ka) >= 0.0 ? 1.0 : -1.0;
+  const double sign_b = b_free || k.dot(kb) >= 0.0 ? 1.0 : -1.0;
+  const Vec& turned = along_a ? kb : ka;
+  const bool turned_free = along_a ? b_free : a_free;
+  const double theta = turned_free ? 0.0 : std::atan2(k.cross(turned).norm(), std::abs(k.dot(turned)));
+  const double tilt = theta * (along_a ? rb : ra);
+  std::vector<Eigen::Vector2d> d;
+  for (const auto& p : sa)
+    for (const auto& q : sb) d.emplace_back(p.x() + q.x(), sign_a * p.y() - sign_b * q.y());
+  const Vec q3 = cb - ca;  // the origin, relative to D's axis through ca - cb
+  const double z0 = q3.dot(k);
+  const Eigen::Vector2d q((q3 - z0 * k).norm(), z0);
+  double size = q.norm();
+  for (const auto& p : d) size = std::max(size, p.norm());
+  const double tol = 64 * kEps * size;
+  double inside = -std::numeric_limits<double>::infinity();
+  double outside = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    for (std::size_t j = 0; j < d.size(); ++j) {
+      const Eigen::Vector2d e = d[j] - d[i];
+      const double len = e.norm();
+      if (!(len > tol)) continue;
+      const Eigen::Vector2d m(e.y() / len, -e.x() / len);
+      bool supporting = true;
+      for (const auto& p : d) supporting = supporting && m.dot(p - d[i]) <= tol;
+      if (!supporting) continue;
+      inside = std::max(inside, m.dot(q - d[i]));
+      const double t = std::clamp((q - d[i]).dot(e) / (len * len), 0.0, 1.0);
+      outside = std::min(outside, (d[i] + t * e - q).norm());
+    }
+  }
+  if (!std::isfinite(inside)) return false;
+  const double sd = inside > 0.0 ? outside : inside;
+  lower = sd - tilt - tol;
+  upper = sd + tilt + tol;
+  return std::isfinite(lower) && std::isfinite(upper);
+}
+
 bool finite_points(const std::vector<Vec>& points) {
   for (const Vec& p : points)
     if (!p.allFinite()) return false;
@@ -515,6 +603,17 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
   CoreAnswer kept;
   const double size = std::max(collision::bounding_radius(a), collision::bounding_radius(b));
   const int passes = curved ? std::max(1, settings.refinements + 1) : 1;
+  // Cores of revolution with nearly parallel axes: the meridian bracket,
+  // merged with the polygons' one (it is what makes nearly coaxial deep
+  // pairs decidable: their depth is almost the same over a circle of
+  // directions, and inscribed polygons converge only as the square of
+  // their angular resolution).
+  double meridian_lower = -std::numeric_limits<double>::infinity();
+  double meridian_upper = std::numeric_limits<double>::infinity();
+  if (curved && meridian_bracket(core_a, core_b, meridian_lower, meridian_upper)) {
+    meridian_lower -= radius;
+    meridian_upper -= radius;
+  }
   for (int pass = 0; pass < passes; ++pass) {
     const CoreAnswer core = core_distance(core_a.points, core_b.points);
     if (!core.ok) return fail(core.reason);
@@ -534,7 +633,9 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
       lower = std::max(lower, -(core_a.support_value(m) + core_b.support_value(-m)) - radius);
     }
     if (!curved) break;
-    if (upper - lower <= std::max(core.tolerance + core.flattening, settings.target_width * size)) break;
+    if (std::min(upper, meridian_upper) - std::max(lower, meridian_lower) <=
+        std::max(core.tolerance + core.flattening, settings.target_width * size))
+      break;
     if (core.points > settings.max_difference_points) break;  // the bracket stays as wide as it is
     // Refine: exact support points of the curved cores in n and on a 3x3
     // grid of directions around it (spacing delta).
@@ -555,6 +656,8 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
 
   const double rounding = kept.tolerance + kept.flattening;
   if (curved) {
+    lower = std::max(lower, meridian_lower);
+    upper = std::min(upper, meridian_upper);
     lower = std::min(lower, upper);  // rounding may cross them
     out.distance = 0.5 * (lower + upper);
     out.error_bound = 0.5 * (upper - lower) + rounding;

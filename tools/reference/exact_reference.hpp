@@ -61,6 +61,17 @@
 // outside the claimed bound): such answers now come with a bound that holds,
 // often a wide one (then the reference cannot judge closer than that).
 //
+// Cores of revolution (segments, cylinders, cones, points) whose axes are
+// nearly parallel: the polygons' bracket is merged with the meridian one.
+// With parallel axes D is a solid of revolution whose section is the convex
+// hull of the sums of both sections (at most 16 points; the polygon by brute
+// force over point pairs), and the signed distance is the 2D one of the
+// origin's (radial, axial) position; axes theta apart move the core with
+// the smaller bounding radius R by at most theta R, the bracket's half
+// width. Nearly coaxial deep pairs, whose depth is almost the same over a
+// circle of directions, had brackets up to 1.5e-2 wide from the polygons
+// alone (they converge as the square of their angular resolution).
+//
 // Uniqueness of the normal (polytope cores): separated by more than the
 // tolerance, the closest point v is unique and so is -v/|v|. Otherwise the
 // facets whose plane lies within the tolerance of the best one are the
