@@ -304,7 +304,7 @@ TEST(ExactReference, NearlyCoaxialCurvedPairsAreBracketedByTheMeridianSection) {
     ASSERT_TRUE(r.ok) << r.reason;
     const double lower = testing::lower_bound_over_great_circles(a, pa, inner, pb, {Vec(ra.col(2)), Vec(rb.col(2))});
     EXPECT_GE(r.upper, lower - 1e-12) << i;
-    EXPECT_LE(r.upper - r.lower, 4.0 * tilt * 0.73 + 1e-9) << i << " tilt " << tilt;
+    EXPECT_LE(r.upper - r.lower, 4.0 * tilt * bounding_radius(inner) + 1e-9) << i << " tilt " << tilt;
   }
 }
 

@@ -684,8 +684,9 @@ TEST(PenetrationHardCases, ScaleDisparityAndLargeOffsets) {
 // must stay honest against the best lower bound of the signed distance we
 // can find independently, max over n of -h_D(n) scanned over the great
 // circles perpendicular to either axis (where h_D has its kinks; support
-// values from closed forms), and be within 2 theta R_B + 1e-9 of it: the
-// pair with B's axis made parallel brackets the depth to theta R_B.
+// values from closed forms), and be within 2 theta R_B + 1e-9 of it (R_B
+// the inner cylinder's bounding radius): the pair with B's axis made
+// parallel brackets the depth to theta R_B.
 TEST(PenetrationHardCases, NearlyCoaxialCurvedCoresAreBracketedByTheParallelPair) {
   std::mt19937_64 rng(31);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -707,8 +708,9 @@ TEST(PenetrationHardCases, NearlyCoaxialCurvedCoresAreBracketedByTheParallelPair
     // Honest: the certified interval reaches the lower bound found.
     EXPECT_GE(r.distance + r.error_bound, lower - slack) << i << " tilt " << tilt;
     // Useful: within the parallel pair's bracket of it.
-    EXPECT_LE(r.error_bound, 2.0 * tilt * 0.73 + 1e-9) << i << " tilt " << tilt << " " << to_string(r.status);
-    EXPECT_LE(lower - r.distance, 2.0 * tilt * 0.73 + 1e-9) << i << " tilt " << tilt;
+    EXPECT_LE(r.error_bound, 2.0 * tilt * bounding_radius(inner) + 1e-9)
+        << i << " tilt " << tilt << " " << to_string(r.status);
+    EXPECT_LE(lower - r.distance, 2.0 * tilt * bounding_radius(inner) + 1e-9) << i << " tilt " << tilt;
   }
 }
 

@@ -225,7 +225,7 @@ inline Eigen::Vector3d cross3(const Eigen::Vector3d& a, const Eigen::Vector3d& b
 // After the projection the normal is orthogonal to the longest edge to
 // rounding; what remains is a tilt about that edge, which moves the
 // triangle's points (all within h of the edge's line) by at most eps L.
-// Costs 1-5 % of a query's instructions (bench/penetration_profile).
+// Costs 2-5 % of a query's instructions (bench/penetration_profile).
 inline Eigen::Vector3d area_vector(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) {
   const Eigen::Vector3d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
   const double l0 = dot3(e0, e0), l1 = dot3(e1, e1), l2 = dot3(e2, e2);
