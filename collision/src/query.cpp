@@ -5,6 +5,7 @@
 #include <cmath>
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/revolution.hpp>
+#include <hedra/collision/tilted_revolution.hpp>
 #include <limits>
 #include <utility>
 
@@ -204,8 +205,29 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
     // meridian-section answer (revolution.hpp) where EPA's polytope could
     // not certify a depth that is the same over a circle of directions.
     EpaResult e;
-    if (!overlap_possible ||
-        !revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation, settings.epa, e))
+    // Nearly coaxial cores of revolution (axes within kCoaxialTilt): the
+    // certified branch and bound over directions (tilted_revolution.hpp)
+    // first, EPA only when it hits its cap.
+    const bool exact_parallel = overlap_possible && revolution_penetration(p.core_a, p.core_b, p.relative, p.scale,
+                                                                           p.relative.translation, settings.epa, e);
+    bool tilted_done = false;
+    EpaResult parallel;
+    bool parallel_known = false;
+    if (overlap_possible && !exact_parallel && nearly_coaxial(p.core_a, p.core_b, p.relative)) {
+      parallel_known = revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation,
+                                              settings.epa, parallel, true);
+      const Eigen::Vector3d hints[2] = {parallel_known ? parallel.normal : Eigen::Vector3d(-g.v),
+                                        p.relative.translation};
+      EpaResult q;
+      TiltedRevolutionSettings first;
+      first.max_squares = kCoaxialFirstSquares;
+      if (tilted_revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, hints, 2, settings.epa, q, first) &&
+          q.status == EpaStatus::ok) {
+        e = q;
+        tilted_done = true;
+      }
+    }
+    if (!exact_parallel && !tilted_done)
       e = epa_penetration(p.core_a, placed_b, g.simplex, p.scale, p.relative.translation, settings.epa);
     // EPA could not converge on two cores of revolution (nearly coaxial
     // cylinders and cones: the depth is almost the same over a circle of
@@ -217,19 +239,36 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
     // best support value it saw) and the support value h_D of the true pair
     // along the parallel answer's normal (every h_D(n) bounds the depth from
     // above; this one is within theta R_B of the parallel depth).
+    // And the branch and bound's own bracket, with its full budget.
     if (overlap_possible && e.status != EpaStatus::ok && e.status != EpaStatus::degenerate) {
-      EpaResult r;
-      if (revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation, settings.epa, r,
-                                 true)) {
-        const Eigen::Vector3d sa = p.core_a.support(r.normal), sb = placed_b.support(-r.normal);
-        const double h = r.normal.dot(sa - sb);
-        const double lower = std::max(e.depth - e.error_bound, r.depth - r.error_bound);
+      EpaResult r = parallel;
+      double lower = e.depth - e.error_bound;
+      const auto take_upper = [&](double h, const Eigen::Vector3d& normal, const Eigen::Vector3d& pa,
+                                  const Eigen::Vector3d& pb) {
         if (std::isfinite(h) && h < e.depth) {
           e.depth = h;
-          e.normal = r.normal;
-          e.point_a = sa;
-          e.point_b = sb;
+          e.normal = normal;
+          e.point_a = pa;
+          e.point_b = pb;
         }
+      };
+      bool bracketed = false;
+      if (parallel_known || revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation,
+                                                   settings.epa, r, true)) {
+        const Eigen::Vector3d sa = p.core_a.support(r.normal), sb = placed_b.support(-r.normal);
+        lower = std::max(lower, r.depth - r.error_bound);
+        take_upper(r.normal.dot(sa - sb), r.normal, sa, sb);
+        bracketed = true;
+      }
+      const Eigen::Vector3d hints[2] = {e.normal, r.normal};
+      EpaResult q;
+      if (tilted_revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, hints, bracketed ? 2 : 1, settings.epa,
+                                        q)) {
+        lower = std::max(lower, q.depth - q.error_bound);
+        take_upper(q.depth, q.normal, q.point_a, q.point_b);
+        bracketed = true;
+      }
+      if (bracketed) {
         e.error_bound = std::max(e.depth - lower, 0.0);
         const double tolerance =
             std::max(settings.epa.relative_tolerance * e.depth, settings.epa.absolute_tolerance * p.scale);

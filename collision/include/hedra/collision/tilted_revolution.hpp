@@ -1,0 +1,560 @@
+// Penetration of two cores of revolution at any tilt, certified, by branch
+// and bound over the directions.
+//
+// Why: nearly coaxial cylinders and cones defeat EPA (the depth is almost the
+// same over a circle of directions, and the polytope fills up long before its
+// lower bound rises), and the exact meridian reduction of revolution.hpp only
+// holds for parallel axes (within theta R_B of the truth at a tilt theta).
+// Both symmetries together make the problem two-dimensional and smooth
+// enough to certify:
+//
+//   * A core of revolution centred at the origin with unit axis k (segment,
+//     cylinder, cone) has a support function h(n) = f(k . n) of one variable
+//     c = k . n, its "profile": f = max(lo, hi), each branch of the form
+//     s c + rho sqrt(1 - c^2), concave on [-1, 1] (cylinder: +-h c + r sqrt;
+//     cone: h c for the apex, -h c + r sqrt for the base rim; segment: +-h c).
+//     The branches cross at the kink c_k (0 for a cylinder or a segment,
+//     r / sqrt(r^2 + 4 h^2) for a cone), where the support set is a segment.
+//   * D = A - B, A's axis a at the origin, B's axis b at t:
+//       h_D(n) = f_A(a . n) + f_B(-(b . n)) - t . n,
+//     and the signed distance is -min_{|n|=1} h_D(n) (the depth when > 0).
+//   * In the frame (a, e2, m), m perpendicular to a and b, e2 = m x a, write
+//     n = X a + Y e2 + sigma gamma m with P = (X, Y) in the unit disc and
+//     gamma = sqrt(1 - |P|^2); the sign sigma = sign(t . m) is the better one
+//     (h_D depends on it through -t . n only). Then a . n = X and
+//     b . n = c X + s Y (c = a . b, s = e2 . b) are linear in P: the kinks
+//     are straight lines, and
+//       F(P) = f_A(X) + f_B(-(c X + s Y)) - t1 X - t2 Y - tau gamma
+//     with t1 = t . a, t2 = t . e2, tau = |t . m| >= 0.
+//   * Lower bound of F over a square of P: split the square by the two kink
+//     lines into convex pieces; in each piece f_A and f_B are bounded below
+//     by the chords of their branches over the piece's range of the argument
+//     (every branch is concave and below f), which leaves a linear function
+//     minus tau gamma: convex, minimised exactly over the piece cut by the
+//     unit disc (the unconstrained minimiser, each edge by a closed form, the
+//     arc's lowest point). Chords are exact at the ends of their range, so
+//     the bound is exact on the kink lines, where the minimum lies, and off
+//     them its error falls as the square of the square's size.
+//   * Upper bound: h_D at the lower bound's minimiser of each piece (every
+//     h_D(n) bounds min h_D from above), and at directions the caller knows
+//     (the parallel pair's normal, EPA's best).
+//   * Depth-first over a quadtree of [-1, 1]^2, children in order of their
+//     bound; a square is dropped once its bound is within the tolerance of
+//     the best upper bound; the certified lower bound is the smallest bound
+//     of the squares dropped. At most `max_squares` squares and a fixed
+//     stack (no heap): hitting the cap reports max_iterations with the
+//     bracket so far.
+//
+// Witness points: the support sets of A along n and of B along -n (a point,
+// a segment on a kink, a disc at a pole), points p_a, p_b in them with
+// p_a - p_b closest to depth * n by alternating projections.
+//
+// The tolerance scales with the pair (relative and absolute as in EPA); the
+// rounding of the bound's arithmetic, a few eps of the size of the pair and
+// of t, is subtracted from it.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <hedra/collision/epa.hpp>
+#include <hedra/collision/minkowski.hpp>
+#include <limits>
+
+namespace hedra::collision {
+
+namespace tilted_detail {
+
+// One branch g(c) = slope c + radius sqrt(1 - c^2), concave on [-1, 1].
+struct Branch {
+  double slope = 0.0;
+  double radius = 0.0;
+  double value(double c) const { return slope * c + radius * std::sqrt(std::max(0.0, 1.0 - c * c)); }
+  // The slope of the chord over [c0, c1], without cancellation:
+  // (sqrt(1 - c1^2) - sqrt(1 - c0^2)) / (c1 - c0) = -(c0 + c1) / (sum of roots).
+  double chord_slope(double c0, double c1) const {
+    const double roots = std::sqrt(std::max(0.0, 1.0 - c0 * c0)) + std::sqrt(std::max(0.0, 1.0 - c1 * c1));
+    if (!(roots > 0.0)) return slope;  // c0 = c1 = +-1: a single point
+    return slope - radius * (c0 + c1) / roots;
+  }
+};
+
+// The profile f(c) = max(lo(c), hi(c)); lo is active for c <= kink.
+struct Profile {
+  bool valid = false;
+  bool curved = false;
+  Branch lo, hi;
+  double kink = 0.0;
+  double half_length = 0.0, radius = 0.0;
+  int kind = 0;  // 1 segment, 2 cylinder, 3 cone
+  double value(double c) const {
+    c = std::clamp(c, -1.0, 1.0);
+    return std::max(lo.value(c), hi.value(c));
+  }
+};
+
+template <class Core>
+Profile profile_of(const Core&) {
+  return {};
+}
+inline Profile profile_of(const SegmentCore& s) {
+  Profile p;
+  p.valid = true;
+  p.lo = {-s.half_length, 0.0};
+  p.hi = {s.half_length, 0.0};
+  p.half_length = s.half_length;
+  p.kind = 1;
+  return p;
+}
+inline Profile profile_of(const CylinderCore& s) {
+  Profile p;
+  p.valid = p.curved = true;
+  p.lo = {-s.half_length, s.radius};
+  p.hi = {s.half_length, s.radius};
+  p.half_length = s.half_length;
+  p.radius = s.radius;
+  p.kind = 2;
+  return p;
+}
+inline Profile profile_of(const ConeCore& s) {
+  Profile p;
+  p.valid = p.curved = true;
+  p.lo = {-s.half_length, s.radius};
+  p.hi = {s.half_length, 0.0};
+  const double l = std::hypot(s.radius, 2.0 * s.half_length);
+  p.kink = l > 0.0 ? s.radius / l : 0.0;
+  p.half_length = s.half_length;
+  p.radius = s.radius;
+  p.kind = 3;
+  return p;
+}
+
+// A convex polygon of the (X, Y) plane, fixed capacity (a square cut by two
+// lines has at most 6 vertices).
+struct Polygon {
+  std::array<Eigen::Vector2d, 8> p;
+  int n = 0;
+};
+
+// The part of `in` where side * (normal . P - offset) <= 0.
+inline Polygon clip(const Polygon& in, const Eigen::Vector2d& normal, double offset, double side) {
+  Polygon out;
+  if (in.n == 0) return out;
+  for (int i = 0; i < in.n; ++i) {
+    const Eigen::Vector2d& p = in.p[i];
+    const Eigen::Vector2d& q = in.p[(i + 1) % in.n];
+    const double dp = side * (normal.dot(p) - offset), dq = side * (normal.dot(q) - offset);
+    if (dp <= 0.0) out.p[out.n++] = p;
+    if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0)) {
+      const double w = dp / (dp - dq);
+      out.p[out.n++] = p + w * (q - p);
+    }
+  }
+  if (out.n < 3) out.n = 0;
+  return out;
+}
+
+// The pair in the disc coordinates described at the top.
+struct Problem {
+  Profile fa, fb;
+  Eigen::Vector3d a, e2, m, b, t;
+  double c = 1.0, s = 0.0;    // b . n = c X + s Y
+  double t1 = 0.0, t2 = 0.0;  // t . a, t . e2
+  double tau = 0.0;           // |t . m|
+  double sigma = 1.0;         // sign of t . m
+  double rounding = 0.0;      // subtracted from every lower bound
+
+  Eigen::Vector3d direction(const Eigen::Vector2d& P) const {
+    const double g = std::sqrt(std::max(0.0, 1.0 - P.squaredNorm()));
+    Eigen::Vector3d n = P.x() * a + P.y() * e2 + (sigma * g) * m;
+    return n / n.norm();
+  }
+  // h_D(n) for any unit n, from the profiles (not through P).
+  double h(const Eigen::Vector3d& n) const { return fa.value(a.dot(n)) + fb.value(-b.dot(n)) - t.dot(n); }
+};
+
+struct Candidate {
+  double value = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d P = Eigen::Vector2d::Zero();
+};
+
+// The convex lower bound on one piece: chord_A(X) + chord_B(w) - t1 X - t2 Y
+// - tau gamma, w = -(c X + s Y); its exact minimum over piece and disc.
+inline Candidate piece_bound(const Problem& pr, const Polygon& poly, const Branch& ga, const Branch& gb) {
+  Candidate best;
+  if (poly.n == 0) return best;
+  const Eigen::Vector2d wb(-pr.c, -pr.s);  // w = wb . P
+  double x0 = 1.0, x1 = -1.0, w0 = 1.0, w1 = -1.0;
+  for (int i = 0; i < poly.n; ++i) {
+    x0 = std::min(x0, poly.p[i].x());
+    x1 = std::max(x1, poly.p[i].x());
+    w0 = std::min(w0, wb.dot(poly.p[i]));
+    w1 = std::max(w1, wb.dot(poly.p[i]));
+  }
+  x0 = std::clamp(x0, -1.0, 1.0);
+  x1 = std::clamp(x1, x0, 1.0);
+  w0 = std::clamp(w0, -1.0, 1.0);
+  w1 = std::clamp(w1, w0, 1.0);
+  const double va = ga.value(x0), ba = ga.chord_slope(x0, x1);
+  const double vb = gb.value(w0), bb = gb.chord_slope(w0, w1);
+  const auto lambda = [&](const Eigen::Vector2d& P) {
+    const double g = std::sqrt(std::max(0.0, 1.0 - P.squaredNorm()));
+    return va + ba * (P.x() - x0) + vb + bb * (wb.dot(P) - w0) - pr.t1 * P.x() - pr.t2 * P.y() - pr.tau * g;
+  };
+  const auto consider = [&](const Eigen::Vector2d& P) {
+    const double v = lambda(P);
+    if (v < best.value) best = {v, P};
+  };
+  const Eigen::Vector2d G = Eigen::Vector2d(ba, 0.0) + bb * wb - Eigen::Vector2d(pr.t1, pr.t2);
+  // Inside the piece, up to a rounding slack (a point a hair outside only
+  // lowers the bound: still certified).
+  const auto inside = [&](const Eigen::Vector2d& P) {
+    for (int i = 0; i < poly.n; ++i) {
+      const Eigen::Vector2d& p = poly.p[i];
+      const Eigen::Vector2d& q = poly.p[(i + 1) % poly.n];
+      const Eigen::Vector2d d = q - p;
+      if (d.x() * (P.y() - p.y()) - d.y() * (P.x() - p.x()) < -1e-15 * (d.norm() + 1.0)) return false;
+    }
+    return true;
+  };
+  const double gn = G.norm();
+  if (pr.tau > 0.0) {
+    const Eigen::Vector2d P = -G / std::hypot(gn, pr.tau);
+    if (inside(P)) consider(P);
+  }
+  if (gn > 0.0) {  // the lowest point of the arc
+    const Eigen::Vector2d P = -G / gn;
+    if (inside(P)) consider(P);
+  }
+  for (int i = 0; i < poly.n; ++i) {
+    const Eigen::Vector2d& p = poly.p[i];
+    const Eigen::Vector2d& q = poly.p[(i + 1) % poly.n];
+    const Eigen::Vector2d d0 = q - p;
+    const double len = d0.norm();
+    if (!(len > 0.0)) {
+      if (p.squaredNorm() <= 1.0) consider(p);
+      continue;
+    }
+    const Eigen::Vector2d d = d0 / len;
+    // P = F0 + sigma d, F0 the foot of the origin on the edge's line.
+    const double sp = p.dot(d);
+    const Eigen::Vector2d F0 = p - sp * d;
+    const double rho2 = 1.0 - F0.squaredNorm();
+    if (!(rho2 >= 0.0)) continue;
+    const double rho = std::sqrt(rho2);
+    const double lo = std::max(sp, -rho), hi = std::min(sp + len, rho);
+    if (!(lo <= hi)) continue;
+    consider(F0 + lo * d);
+    consider(F0 + hi * d);
+    if (pr.tau > 0.0) {
+      const double k = G.dot(d);
+      const double star = std::clamp(-k * rho / std::hypot(k, pr.tau), lo, hi);
+      consider(F0 + star * d);
+    }
+  }
+  best.value -= pr.rounding;
+  return best;
+}
+
+// The support set of a core of revolution (profile p, local axis z) along
+// the local unit direction d: a point, a segment (on a kink, within `slack`
+// of c), or a disc (a cap, d within `slack` of the axis). World placement
+// by (R, t).
+struct Feature {
+  Eigen::Vector3d p0 = Eigen::Vector3d::Zero(), p1 = Eigen::Vector3d::Zero();  // segment (p0 = p1: a point)
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();                             // disc normal
+  double disc = 0.0;                                                           // disc radius (0: none)
+
+  Eigen::Vector3d project(const Eigen::Vector3d& x) const {
+    if (disc > 0.0) {
+      Eigen::Vector3d r = x - p0;
+      r -= r.dot(axis) * axis;
+      const double len = r.norm();
+      return len > disc ? Eigen::Vector3d(p0 + (disc / len) * r) : Eigen::Vector3d(p0 + r);
+    }
+    const Eigen::Vector3d d = p1 - p0;
+    const double dd = d.squaredNorm();
+    if (!(dd > 0.0)) return p0;
+    return p0 + std::clamp((x - p0).dot(d) / dd, 0.0, 1.0) * d;
+  }
+};
+
+// The closest points of segments [p0, p1] and [q0, q1] (either may be a
+// point): the clamped minimiser of |p(s) - q(u)|^2, u re-solved after s is
+// clamped and s after u (exact for nearly parallel segments too: any pair
+// of the overlap is a closest pair).
+inline void closest_on_segments(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
+                                const Eigen::Vector3d& q1, Eigen::Vector3d& p, Eigen::Vector3d& q) {
+  const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0.0, u = 0.0;
+  if (a > 0.0 && e > 0.0) {
+    const double b = d1.dot(d2), c = d1.dot(r);
+    const double denom = a * e - b * b;
+    s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+    u = (b * s + f) / e;
+    if (u < 0.0 || u > 1.0) {
+      u = std::clamp(u, 0.0, 1.0);
+      s = std::clamp((b * u - c) / a, 0.0, 1.0);
+    }
+  } else if (e > 0.0) {
+    u = std::clamp(f / e, 0.0, 1.0);
+  } else if (a > 0.0) {
+    s = std::clamp(-d1.dot(r) / a, 0.0, 1.0);
+  }
+  p = p0 + s * d1;
+  q = q0 + u * d2;
+}
+
+inline Feature feature_of(const Profile& p, const Eigen::Vector3d& d, double slack, const Eigen::Matrix3d& R,
+                          const Eigen::Vector3d& t) {
+  Feature f;
+  const double c = std::clamp(d.z(), -1.0, 1.0);
+  const double rd = std::hypot(d.x(), d.y());
+  const Eigen::Vector3d k = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d rim =
+      rd > 0.0 ? Eigen::Vector3d(p.radius * d.x() / rd, p.radius * d.y() / rd, 0.0) : Eigen::Vector3d::Zero();
+  const double h = p.half_length;
+  const Eigen::Vector3d apex = h * k;
+  if (p.kind != 3 && rd <= slack && p.radius > 0.0) {  // a cylinder's cap
+    f.p0 = f.p1 = (c >= 0.0 ? h : -h) * k;
+    f.disc = p.radius;
+  } else if (p.kind == 3 && c < 0.0 && rd <= slack) {  // a cone's base
+    f.p0 = f.p1 = -h * k;
+    f.disc = p.radius;
+  } else if (std::abs(c - p.kink) <= slack) {  // on the kink: the segment between the branches' points
+    f.p0 = p.kind == 3 ? apex : Eigen::Vector3d(rim + h * k);
+    f.p1 = rim - h * k;
+  } else if (c > p.kink) {
+    f.p0 = f.p1 = p.kind == 3 ? apex : Eigen::Vector3d(rim + h * k);
+  } else {
+    f.p0 = f.p1 = rim - h * k;
+  }
+  f.p0 = R * f.p0 + t;
+  f.p1 = R * f.p1 + t;
+  f.axis = R * k;
+  return f;
+}
+
+}  // namespace tilted_detail
+
+// Pairs whose axes are within kCoaxialTilt rad of parallel (or
+// anti-parallel) go to the branch and bound before EPA, with a budget of
+// kCoaxialFirstSquares squares (EPA's polytope cannot certify them; the
+// bench's nearly coaxial pairs, tilts 1e-10 .. 1e-3, need at most 64).
+inline constexpr double kCoaxialTilt = 1e-2;
+inline constexpr int kCoaxialFirstSquares = 512;
+
+template <class CA, class CB>
+bool nearly_coaxial(const CA& core_a, const CB& core_b, const RelativePose& relative) {
+  const tilted_detail::Profile pa = tilted_detail::profile_of(core_a), pb = tilted_detail::profile_of(core_b);
+  if (!pa.valid || !pb.valid || !(pa.curved || pb.curved)) return false;
+  const Eigen::Vector3d kb = relative.rotation.col(2);
+  return std::atan2(Eigen::Vector3d::UnitZ().cross(kb).norm(), std::abs(kb.z())) <= kCoaxialTilt;
+}
+
+struct TiltedRevolutionSettings {
+  int max_squares = 4096;  // squares bounded, the cap reported as max_iterations
+};
+
+// The signed depth (min over unit n of h_D(n), > 0 when the cores overlap)
+// of two cores of revolution (segment, cylinder or cone; B placed by
+// `relative` in A's frame) whose axes are not parallel, certified within
+// max(relative_tolerance depth, absolute_tolerance scale) of EpaSettings;
+// false when the pair is not of that kind. `hints`: directions whose support
+// values start the upper bound. Conventions of epa_penetration.
+template <class CA, class CB>
+bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const RelativePose& relative, double scale,
+                                   const Eigen::Vector3d* hints, int hint_count, const EpaSettings& settings,
+                                   EpaResult& out, const TiltedRevolutionSettings& tilted = {}) {
+  using namespace tilted_detail;
+  Problem pr;
+  pr.fa = profile_of(core_a);
+  pr.fb = profile_of(core_b);
+  if (!pr.fa.valid || !pr.fb.valid || !(pr.fa.curved || pr.fb.curved)) return false;
+  if (!(std::isfinite(scale) && scale > 0.0)) return false;
+  pr.a = Eigen::Vector3d::UnitZ();
+  pr.b = relative.rotation.col(2);
+  pr.t = relative.translation;
+  // m perpendicular to a and b to a few eps: the cross product's rounding
+  // (eps / theta of its direction) is taken out against a, which leaves
+  // b . m at eps too (b - (a . b) a is small where that rounding is large).
+  Eigen::Vector3d m = pr.a.cross(pr.b);
+  const double mn = m.norm();
+  if (!(mn > 0.0) || !std::isfinite(mn)) return false;
+  m /= mn;
+  m -= m.dot(pr.a) * pr.a;
+  m.normalize();
+  pr.m = m;
+  pr.e2 = m.cross(pr.a);
+  pr.c = pr.a.dot(pr.b);
+  pr.s = pr.e2.dot(pr.b);
+  pr.t1 = pr.t.dot(pr.a);
+  pr.t2 = pr.t.dot(pr.e2);
+  const double tm = pr.t.dot(m);
+  pr.tau = std::abs(tm);
+  pr.sigma = tm >= 0.0 ? 1.0 : -1.0;
+  const double eps = std::numeric_limits<double>::epsilon();
+  pr.rounding = 64.0 * eps * (2.0 * scale + pr.t.norm());
+
+  // Upper bound from the caller's directions.
+  double upper = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d best_n = Eigen::Vector3d::UnitX();
+  const auto offer = [&](const Eigen::Vector3d& n) {
+    if (!n.allFinite()) return;
+    const double v = pr.h(n);
+    if (v < upper) {
+      upper = v;
+      best_n = n;
+    }
+  };
+  for (int i = 0; i < hint_count; ++i) {
+    const double len = hints[i].norm();
+    if (len > 0.0 && std::isfinite(len)) offer(hints[i] / len);
+  }
+  const auto tolerance = [&] {
+    return std::max(settings.relative_tolerance * std::abs(upper), settings.absolute_tolerance * scale);
+  };
+
+  // A square's bound: the smallest over its pieces (cut by the two kink lines).
+  const Eigen::Vector2d kink_b_normal(-pr.c, -pr.s);  // w = -(b . n) = kink_b_normal . P
+  const auto square_bound = [&](const Eigen::Vector2d& lo_corner, double size) {
+    Polygon sq;
+    sq.n = 4;
+    sq.p[0] = lo_corner;
+    sq.p[1] = lo_corner + Eigen::Vector2d(size, 0.0);
+    sq.p[2] = lo_corner + Eigen::Vector2d(size, size);
+    sq.p[3] = lo_corner + Eigen::Vector2d(0.0, size);
+    double bound = std::numeric_limits<double>::infinity();
+    for (int ia = 0; ia < 2; ++ia) {
+      const Polygon pa = clip(sq, Eigen::Vector2d::UnitX(), pr.fa.kink, ia == 0 ? 1.0 : -1.0);
+      for (int ib = 0; ib < 2; ++ib) {
+        const Polygon piece = clip(pa, kink_b_normal, pr.fb.kink, ib == 0 ? 1.0 : -1.0);
+        const Candidate cnd = piece_bound(pr, piece, ia == 0 ? pr.fa.lo : pr.fa.hi, ib == 0 ? pr.fb.lo : pr.fb.hi);
+        if (cnd.value < bound) bound = cnd.value;
+        if (std::isfinite(cnd.value)) offer(pr.direction(cnd.P));
+      }
+    }
+    return bound;
+  };
+
+  struct Square {
+    Eigen::Vector2d corner;
+    double size;
+    double bound;
+  };
+  constexpr int kMaxDepth = 64;
+  std::array<Square, 4 * kMaxDepth + 4> stack;
+  int top = 0;
+  double certified = std::numeric_limits<double>::infinity();
+  int squares = 0;
+  bool capped = false;
+  // The four quadrants of [-1, 1]^2, bounded first: every square on the
+  // stack then carries a finite bound (its parent's), which is what the cap
+  // certifies for the squares it leaves unexplored.
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector2d corner(i % 2 == 0 ? -1.0 : 0.0, i / 2 == 0 ? -1.0 : 0.0);
+    ++squares;
+    stack[top++] = {corner, 1.0, square_bound(corner, 1.0)};
+  }
+  while (top > 0) {
+    const Square sq = stack[--top];
+    if (sq.bound >= upper - tolerance()) {
+      certified = std::min(certified, sq.bound);
+      continue;
+    }
+    if (squares >= tilted.max_squares) {
+      capped = true;
+      certified = std::min(certified, sq.bound);
+      continue;
+    }
+    // A child bounded, or a quadrant (bounded already, at size 1).
+    double bound = sq.bound;
+    if (sq.size < 1.0) {
+      ++squares;
+      bound = square_bound(sq.corner, sq.size);
+    }
+    if (bound == std::numeric_limits<double>::infinity()) continue;         // outside the disc
+    if (!(bound >= -std::numeric_limits<double>::max())) bound = sq.bound;  // NaN: keep the parent's
+    if (bound >= upper - tolerance() || top + 4 > static_cast<int>(stack.size()) || !(sq.size > 4.0 * eps)) {
+      certified = std::min(certified, bound);
+      continue;
+    }
+    // The four children carry this square's bound until they are bounded.
+    const double half = 0.5 * sq.size;
+    std::array<Square, 4> child;
+    for (int i = 0; i < 4; ++i)
+      child[i] = {sq.corner + Eigen::Vector2d(i % 2 == 0 ? 0.0 : half, i / 2 == 0 ? 0.0 : half), half, bound};
+    for (const Square& c : child) stack[top++] = c;
+  }
+  if (!std::isfinite(upper) || std::isnan(certified)) return false;
+  // The answer snapped onto a kink line (or both) when that costs less than
+  // a quarter of the tolerance: the minimum usually lies on one, where the
+  // support sets are segments and the witnesses can be exact.
+  {
+    const Eigen::Vector2d P(pr.a.dot(best_n), pr.e2.dot(best_n));
+    const Eigen::Vector2d nb = kink_b_normal / kink_b_normal.norm();
+    const double kb = pr.fb.kink / kink_b_normal.norm();
+    const Eigen::Vector2d on_a(pr.fa.kink, P.y());
+    const Eigen::Vector2d on_b = P - (nb.dot(P) - kb) * nb;
+    Eigen::Vector2d on_both = on_a;
+    const double det = nb.y();  // X = ka and nb . P = kb
+    if (std::abs(det) > 0.0) on_both = Eigen::Vector2d(pr.fa.kink, (kb - nb.x() * pr.fa.kink) / det);
+    const double allowed = upper + 0.25 * tolerance();
+    double best_value = std::numeric_limits<double>::infinity();
+    Eigen::Vector3d snapped = best_n;
+    for (const Eigen::Vector2d& Q : {on_both, on_a, on_b}) {
+      if (!(Q.squaredNorm() <= 1.0)) continue;
+      const Eigen::Vector3d n = pr.direction(Q);
+      const double v = pr.h(n);
+      if (v <= allowed && v < best_value) {
+        best_value = v;
+        snapped = n;
+        break;  // the first acceptable in that order: the most constrained
+      }
+    }
+    if (best_value <= allowed) {
+      upper = best_value;
+      best_n = snapped;
+    }
+  }
+  if (!std::isfinite(certified)) certified = upper;
+  EpaResult r;
+  r.depth = upper;
+  r.normal = best_n;
+  // Witnesses: p_a in A's support set along n, p_b in B's along -n, with
+  // p_a - p_b as close to depth * n as alternating projections get (exact
+  // for points and for segments that overlap; the caller splits the rest).
+  // A direction within `slack` of a kink (in c) or of an axis sees the
+  // whole segment or disc: its support value differs by at most
+  // 2 scale slack, a quarter of the tolerance.
+  const double slack = 0.125 * tolerance() / scale;
+  const Feature fa = feature_of(pr.fa, best_n, slack, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero());
+  const Feature fb = feature_of(pr.fb, -(relative.rotation.transpose() * best_n), slack, relative.rotation, pr.t);
+  const Eigen::Vector3d x = upper * best_n;
+  Eigen::Vector3d pa, pb;
+  if (fa.disc == 0.0 && fb.disc == 0.0) {
+    closest_on_segments(fa.p0, fa.p1, fb.p0 + x, fb.p1 + x, pa, pb);
+    pb -= x;
+  } else {
+    pa = fa.project(fb.p0 + x);
+    pb = fb.project(pa - x);
+    for (int i = 0; i < 16; ++i) {
+      pa = fa.project(pb + x);
+      pb = fb.project(pa - x);
+    }
+  }
+  r.point_a = pa;
+  r.point_b = pb;
+  r.error_bound = std::max(upper - std::min(certified, upper), 0.0);
+  r.iterations = squares;
+  r.dimension = 3;
+  r.status = capped ? EpaStatus::max_iterations : EpaStatus::ok;
+  if (!capped && r.error_bound > tolerance()) r.status = EpaStatus::stalled;
+  out = r;
+  return true;
+}
+
+}  // namespace hedra::collision
