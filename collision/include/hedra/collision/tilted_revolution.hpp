@@ -68,14 +68,20 @@ namespace hedra::collision {
 namespace tilted_detail {
 
 // One branch g(c) = slope c + radius sqrt(1 - c^2), concave on [-1, 1].
+// sqrt(1 - c^2) as sqrt((1 - c)(1 + c)): no cancellation near the poles
+// (1 - c * c there has an error of a quarter of its value).
+inline double sine_of(double c) { return std::sqrt(std::max(0.0, (1.0 - c) * (1.0 + c))); }
+
 struct Branch {
   double slope = 0.0;
   double radius = 0.0;
-  double value(double c) const { return slope * c + radius * std::sqrt(std::max(0.0, 1.0 - c * c)); }
+  double value(double c) const { return slope * c + radius * sine_of(c); }
+  // With the sine given (from the direction itself, exact near the poles).
+  double value(double c, double sine) const { return slope * c + radius * sine; }
   // The slope of the chord over [c0, c1], without cancellation:
   // (sqrt(1 - c1^2) - sqrt(1 - c0^2)) / (c1 - c0) = -(c0 + c1) / (sum of roots).
   double chord_slope(double c0, double c1) const {
-    const double roots = std::sqrt(std::max(0.0, 1.0 - c0 * c0)) + std::sqrt(std::max(0.0, 1.0 - c1 * c1));
+    const double roots = sine_of(c0) + sine_of(c1);
     if (!(roots > 0.0)) return slope;  // c0 = c1 = +-1: a single point
     return slope - radius * (c0 + c1) / roots;
   }
@@ -92,6 +98,13 @@ struct Profile {
   double value(double c) const {
     c = std::clamp(c, -1.0, 1.0);
     return std::max(lo.value(c), hi.value(c));
+  }
+  // h(n) for the axis k: the sine from |k x n| (a direction 1e-9 rad off the
+  // axis has c = 1 exactly in double, and a radius term of 1e-9 r).
+  double value(const Eigen::Vector3d& k, const Eigen::Vector3d& n) const {
+    const double c = std::clamp(k.dot(n), -1.0, 1.0);
+    const double sine = std::min(k.cross(n).norm(), 1.0);
+    return std::max(lo.value(c, sine), hi.value(c, sine));
   }
 };
 
@@ -160,11 +173,12 @@ inline Polygon clip(const Polygon& in, const Eigen::Vector2d& normal, double off
 struct Problem {
   Profile fa, fb;
   Eigen::Vector3d a, e2, m, b, t;
-  double c = 1.0, s = 0.0;    // b . n = c X + s Y
-  double t1 = 0.0, t2 = 0.0;  // t . a, t . e2
-  double tau = 0.0;           // |t . m|
-  double sigma = 1.0;         // sign of t . m
-  double rounding = 0.0;      // subtracted from every lower bound
+  double c = 1.0, s = 0.0;      // b . n = c X + s Y
+  double t1 = 0.0, t2 = 0.0;    // t . a, t . e2
+  double tau = 0.0;             // |t . m|
+  double sigma = 1.0;           // sign of t . m
+  double rounding = 0.0;        // subtracted from every lower bound
+  double pole_allowance = 0.0;  // and this from bounds that reach a pole
 
   Eigen::Vector3d direction(const Eigen::Vector2d& P) const {
     const double g = std::sqrt(std::max(0.0, 1.0 - P.squaredNorm()));
@@ -172,7 +186,7 @@ struct Problem {
     return n / n.norm();
   }
   // h_D(n) for any unit n, from the profiles (not through P).
-  double h(const Eigen::Vector3d& n) const { return fa.value(a.dot(n)) + fb.value(-b.dot(n)) - t.dot(n); }
+  double h(const Eigen::Vector3d& n) const { return fa.value(a, n) + fb.value(b, Eigen::Vector3d(-n)) - t.dot(n); }
 };
 
 struct Candidate {
@@ -254,6 +268,14 @@ inline Candidate piece_bound(const Problem& pr, const Polygon& poly, const Branc
       consider(F0 + star * d);
     }
   }
+  // Near a pole (X or w within 4e-15 of +-1, 9e-8 rad of an axis) the disc
+  // coordinates cannot resolve directions (cos of 1e-8 rad is 1 in
+  // double): the bound there is lowered by what that hides, 1e-7 of the
+  // radii and of t, so that no square near a pole is dropped on a bound
+  // the coordinates cannot support (the minimum there stays uncertified,
+  // and the caller falls back to EPA).
+  const double pole = 1.0 - 4e-15;
+  if (x0 <= -pole || x1 >= pole || w0 <= -pole || w1 >= pole) best.value -= pr.pole_allowance;
   best.value -= pr.rounding;
   return best;
 }
@@ -398,6 +420,7 @@ bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const Rel
   pr.sigma = tm >= 0.0 ? 1.0 : -1.0;
   const double eps = std::numeric_limits<double>::epsilon();
   pr.rounding = 64.0 * eps * (2.0 * scale + pr.t.norm());
+  pr.pole_allowance = 1e-7 * (pr.fa.radius + pr.fb.radius + pr.fa.half_length + pr.fb.half_length + pr.t.norm());
 
   // Upper bound from the caller's directions.
   double upper = std::numeric_limits<double>::infinity();
