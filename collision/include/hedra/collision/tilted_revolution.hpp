@@ -95,10 +95,6 @@ struct Profile {
   double kink = 0.0;
   double half_length = 0.0, radius = 0.0;
   int kind = 0;  // 1 segment, 2 cylinder, 3 cone
-  double value(double c) const {
-    c = std::clamp(c, -1.0, 1.0);
-    return std::max(lo.value(c), hi.value(c));
-  }
   // h(n) for the axis k: the sine from |k x n| (a direction 1e-9 rad off the
   // axis has c = 1 exactly in double, and a radius term of 1e-9 r).
   double value(const Eigen::Vector3d& k, const Eigen::Vector3d& n) const {
