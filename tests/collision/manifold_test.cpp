@@ -287,7 +287,9 @@ TEST(Manifold, EdgeAxesThroughADegenerateShapesCentreAreOrientedByTheGaussMap) {
     const double scale = 1.0;
     const double bias = settings.relative_bias * std::abs(p.distance) + settings.absolute_bias * 2.0 * scale +
                         1e-9 * scale + p.error_bound;
-    if (!c.intersecting) EXPECT_LE(c.distance, p.distance + bias) << trial;
+    if (!c.intersecting) {
+      EXPECT_LE(c.distance, p.distance + bias) << trial;
+    }
     if (p.distance < -bias) {
       ++overlapping;
       EXPECT_TRUE(c.intersecting) << trial << " depth " << -p.distance << " contact distance " << c.distance;
