@@ -173,6 +173,44 @@ TEST(TiltedRevolution, CoincidentCylindersHaveTheSumOfTheirRadiiAsDepth) {
 
 // Directly, at any tilt: the same answer as EPA where EPA converged (both
 // certified, so their intervals overlap), and honest when the cap is hit.
+// A small core (wider than long) centred deep inside a large cylinder whose
+// radius equals its half length, axes 1e-9 .. 1e-3 rad apart (found by
+// fuzzing: such pairs ended polytope_full). The depth along A's axis is
+// within the small core's size of the radial one, so EPA cannot certify
+// it, and the minimum lies at a pole, where the disc coordinates cannot
+// resolve directions: the cap bound there (pole_cap_bound) must. Closed
+// form: for n at angle phi from A's axis h_A(n) = 0.105 (cos phi + sin phi),
+// at least 0.105, growing at rate 0.105 from the pole while B's part falls
+// at most at the rate of its size, and B's support value is at least its
+// half length (shorter than its radius) everywhere: the minimum is at the
+// poles, the lower of h_A(+-a) + h_B(-+a).
+TEST(TiltedRevolution, SmallCoresDeepInALargeCylinderAreCertifiedAtItsCap) {
+  std::mt19937_64 rng(9);
+  const Cylinder a{0.105, 0.105, 0.0};
+  const std::array<Shape, 3> small = {Shape(Cylinder{1.05e-4, 5e-6, 0.0}), Shape(Cone{8e-5, 2e-5, 0.0}),
+                                      Shape(Cylinder{3e-4, 1e-5, 0.0})};
+  int checked = 0;
+  for (double tilt = 1e-9; tilt <= 1e-3; tilt *= 10.0) {
+    for (const Shape& b : small) {
+      for (const bool flip : {false, true}) {
+        const Eigen::Matrix3d ra = Eigen::AngleAxisd(2.0, random_unit(rng)).toRotationMatrix();
+        Eigen::Matrix3d rb = ra * Eigen::AngleAxisd(tilt, random_unit(rng)).toRotationMatrix();
+        if (flip) rb = rb * Eigen::AngleAxisd(M_PI, Vec::UnitX()).toRotationMatrix();
+        const Vec centre = 3.0 * random_unit(rng);
+        const Pose pa{ra, centre}, pb{rb, centre};
+        const Vec axis = ra.col(2);
+        const double exact = std::max(separation(Shape(a), pa, b, pb, axis), separation(Shape(a), pa, b, pb, -axis));
+        const PenetrationResult r = penetration(Shape(a), pa, b, pb);
+        EXPECT_EQ(r.status, Status::ok) << tilt;
+        EXPECT_NEAR(r.distance, exact, 1e-10 * 0.15) << tilt;
+        EXPECT_LE(r.error_bound, 1e-10 * 0.15) << tilt;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 42);
+}
+
 TEST(TiltedRevolution, AgreesWithEpaAtAnyTilt) {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(0.0, 1.0);

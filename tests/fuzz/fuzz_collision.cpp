@@ -4,8 +4,9 @@
 // The bytes choose two shapes (sphere, box, capsule, cylinder, cone or a hull
 // of up to 12 points, each with a margin), their sizes (sometimes negative,
 // NaN or infinite, spanning 1e-4 .. 1e4), and two poses (quaternions that
-// may be zero or NaN, translations up to 1e6). Checked, for every input and
-// both orders (A, B) and (B, A):
+// may be zero or NaN, translations up to 1e6; sometimes B's rotation A's
+// turned by 1e-1 .. 1e-15 rad, a nearly coaxial pair). Checked, for every
+// input and both orders (A, B) and (B, A):
 //   - every output field is finite, whatever the status;
 //   - invalid shapes or poses, or a pair below min_pair_extent, give
 //     invalid_input; valid ones never do;
@@ -165,7 +166,24 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   make_shape(in, a);
   make_shape(in, b);
   const Pose pose_a = make_pose(in);
-  const Pose pose_b = make_pose(in);
+  Pose pose_b = make_pose(in);
+  // Nearly coaxial pairs (tilted_revolution.hpp's branch and bound, and
+  // EPA's rings of equal depths), which independent quaternions almost
+  // never give: a trailing byte may make B's rotation A's turned by 1e-1 ..
+  // 1e-15 rad about an axis from the bytes, sometimes also flipped end for
+  // end. Read after everything else, so inputs without it decode as before.
+  const std::uint8_t coaxial = in.byte();
+  if (coaxial % 4 == 1 && pose_a.finite()) {
+    const double angle = std::pow(10.0, -1.0 - static_cast<double>(in.byte() % 15));
+    // Scaled by its largest coordinate first: a tiny axis (1e-163) has a
+    // subnormal squared norm, normalises to a length 1e-8 off, and would
+    // make a rotation that is not orthonormal (Pose's contract).
+    Vec axis{in.finite_double(1.0), in.finite_double(1.0), in.finite_double(1.0)};
+    const double largest = axis.cwiseAbs().maxCoeff();
+    axis = largest > 0.0 ? Vec(axis / largest) : Vec::UnitX();
+    pose_b.rotation = pose_a.rotation * Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+    if (coaxial & 4) pose_b.rotation = pose_b.rotation * Eigen::AngleAxisd(M_PI, Vec::UnitX()).toRotationMatrix();
+  }
   if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
     describe("a", a, pose_a);
     describe("b", b, pose_b);

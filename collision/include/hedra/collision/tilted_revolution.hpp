@@ -35,9 +35,20 @@
 //     arc's lowest point). Chords are exact at the ends of their range, so
 //     the bound is exact on the kink lines, where the minimum lies, and off
 //     them its error falls as the square of the square's size.
+//   * The poles (n = +-a, +-b) are where the disc coordinates fail: a
+//     direction 1e-8 rad from an axis has X = 1 in double. A piece that
+//     reaches within 4e-15 of a pole is bounded instead in the pole's own
+//     angle phi: the pole's profile is at least each branch, s cos(phi) +
+//     rho sin(phi), and the rest of h_D (a support function) at least n . x
+//     for its support point x at the pole, so h_D >= H cos(phi) + kappa
+//     sin(phi), whose minimum over the cap is at an end (pole_cap_bound).
+//     At a cylinder's cap (a kink, kappa > 0) that is the pole's own value:
+//     minima at a pole (a small core deep inside a flat cylinder, found by
+//     fuzzing) are certified. Otherwise the bound is lowered by 1e-7 of the
+//     sizes (what the coordinates hide) and the minimum stays uncertified.
 //   * Upper bound: h_D at the lower bound's minimiser of each piece (every
-//     h_D(n) bounds min h_D from above), and at directions the caller knows
-//     (the parallel pair's normal, EPA's best).
+//     h_D(n) bounds min h_D from above), at the four poles, and at
+//     directions the caller knows (the parallel pair's normal, EPA's best).
 //   * Depth-first over a quadtree of [-1, 1]^2, children in order of their
 //     bound; a square is dropped once its bound is within the tolerance of
 //     the best upper bound; the certified lower bound is the smallest bound
@@ -175,6 +186,10 @@ struct Problem {
   double sigma = 1.0;           // sign of t . m
   double rounding = 0.0;        // subtracted from every lower bound
   double pole_allowance = 0.0;  // and this from bounds that reach a pole
+  // Per pole (+a, -a, -b, +b: where a . n = +-1 or w = -(b . n) = +-1) and
+  // per branch of that pole's profile: h_D(n) >= H cos(phi) + kappa sin(phi)
+  // for n at angle phi from the pole (see pole_cap_bound).
+  std::array<std::array<double, 2>, 4> cap_h{}, cap_kappa{};
 
   Eigen::Vector3d direction(const Eigen::Vector2d& P) const {
     const double g = std::sqrt(std::max(0.0, 1.0 - P.squaredNorm()));
@@ -189,6 +204,29 @@ struct Candidate {
   double value = std::numeric_limits<double>::infinity();
   Eigen::Vector2d P = Eigen::Vector2d::Zero();
 };
+
+// A lower bound of h_D over every direction within phi_max (< pi/2) of pole
+// `which` (see Problem::cap_h), resolved where the disc coordinates are not.
+// With p the pole and n = cos(phi) p + sin(phi) u (u a unit vector normal to
+// p): the pole's profile is at least each of its branches, slope (+-cos phi)
+// + radius sin(phi); the rest of h_D is the support function of a convex
+// set K (A - t for B's poles, -B placed for A's), at least n . x for x its
+// support point at p, and n . x >= cos(phi) (p . x) - sin(phi) |x - (p . x) p|.
+// So h_D(n) >= g(phi) = H cos(phi) + kappa sin(phi), a sinusoid: where both
+// ends of [0, phi_max] are positive it is positive, hence concave, between
+// them, and its minimum there is at an end. A pole that is a strict kink of
+// the profile (a cylinder's cap, kappa > 0) gives the pole's own value
+// (to H phi_max^2 / 2); otherwise about the allowance.
+inline double pole_cap_bound(const Problem& pr, int which, double phi_max) {
+  const double c = std::cos(phi_max), sn = std::sin(phi_max);
+  double bound = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 2; ++k) {
+    const double h = pr.cap_h[which][k], kappa = pr.cap_kappa[which][k];
+    const double at_end = h * c + kappa * sn;
+    if (h > 0.0 && at_end > 0.0) bound = std::max(bound, std::min(h, at_end));
+  }
+  return bound;
+}
 
 // The convex lower bound on one piece: chord_A(X) + chord_B(w) - t1 X - t2 Y
 // - tau gamma, w = -(c X + s Y); its exact minimum over piece and disc.
@@ -270,8 +308,22 @@ inline Candidate piece_bound(const Problem& pr, const Polygon& poly, const Branc
   // radii and of t, so that no square near a pole is dropped on a bound
   // the coordinates cannot support (the minimum there stays uncertified,
   // and the caller falls back to EPA).
+  // Unless a cap bound around the pole does better (pole_cap_bound): the
+  // piece lies within phi_max of the pole, from 1 -+ its extreme coordinate
+  // (exact for X; w carries a few eps of rounding, allowed for).
   const double pole = 1.0 - 4e-15;
-  if (x0 <= -pole || x1 >= pole || w0 <= -pole || w1 >= pole) best.value -= pr.pole_allowance;
+  if (x0 <= -pole || x1 >= pole || w0 <= -pole || w1 >= pole) {
+    const double eps = std::numeric_limits<double>::epsilon();
+    const auto angle = [](double one_minus) {  // acos(1 - one_minus), widened
+      return 2.0 * std::asin(std::min(1.0, std::sqrt(std::max(0.0, 0.5 * one_minus)))) * (1.0 + 1e-9) + 1e-300;
+    };
+    double bound = best.value - pr.pole_allowance;
+    if (x1 >= pole) bound = std::max(bound, pole_cap_bound(pr, 0, angle(1.0 - x0)));
+    if (x0 <= -pole) bound = std::max(bound, pole_cap_bound(pr, 1, angle(1.0 + x1)));
+    if (w1 >= pole) bound = std::max(bound, pole_cap_bound(pr, 2, angle(1.0 - w0 + 8.0 * eps)));
+    if (w0 <= -pole) bound = std::max(bound, pole_cap_bound(pr, 3, angle(1.0 + w1 + 8.0 * eps)));
+    best.value = bound;
+  }
   best.value -= pr.rounding;
   return best;
 }
@@ -417,6 +469,27 @@ bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const Rel
   const double eps = std::numeric_limits<double>::epsilon();
   pr.rounding = 64.0 * eps * (2.0 * scale + pr.t.norm());
   pr.pole_allowance = 1e-7 * (pr.fa.radius + pr.fb.radius + pr.fa.half_length + pr.fb.half_length + pr.t.norm());
+  // The pole caps (pole_cap_bound): for A's poles p = +-a the rest is -B
+  // placed at t, its support point at p being -(R s_B(R^T (-p)) + t); for
+  // B's poles p = -+b (w = +-1) it is A - t, with s_A(p) - t.
+  {
+    const Eigen::Matrix3d& R = relative.rotation;
+    const std::array<Eigen::Vector3d, 4> poles = {pr.a, Eigen::Vector3d(-pr.a), Eigen::Vector3d(-pr.b), pr.b};
+    for (int which = 0; which < 4; ++which) {
+      const Eigen::Vector3d& p = poles[which];
+      const bool of_a = which < 2;
+      const Eigen::Vector3d x = of_a ? Eigen::Vector3d(-(R * core_b.support(R.transpose() * (-p)) + pr.t))
+                                     : Eigen::Vector3d(core_a.support(p) - pr.t);
+      const double along = p.dot(x), across = (x - along * p).norm();
+      const Profile& f = of_a ? pr.fa : pr.fb;
+      const double sign = which % 2 == 0 ? 1.0 : -1.0;  // the profile's coordinate at the pole
+      const Branch* branch[2] = {&f.lo, &f.hi};
+      for (int k = 0; k < 2; ++k) {
+        pr.cap_h[which][k] = sign * branch[k]->slope + along;
+        pr.cap_kappa[which][k] = branch[k]->radius - across;
+      }
+    }
+  }
 
   // Upper bound from the caller's directions.
   double upper = std::numeric_limits<double>::infinity();
@@ -433,6 +506,8 @@ bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const Rel
     const double len = hints[i].norm();
     if (len > 0.0 && std::isfinite(len)) offer(hints[i] / len);
   }
+  // The poles themselves (the cap bounds certify minima there).
+  for (const Eigen::Vector3d& p : {pr.a, Eigen::Vector3d(-pr.a), pr.b, Eigen::Vector3d(-pr.b)}) offer(p);
   const auto tolerance = [&] {
     return std::max(settings.relative_tolerance * std::abs(upper), settings.absolute_tolerance * scale);
   };
