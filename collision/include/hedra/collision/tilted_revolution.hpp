@@ -218,8 +218,11 @@ struct Candidate {
 // the profile (a cylinder's cap, kappa > 0) gives the pole's own value
 // (to H phi_max^2 / 2); otherwise about the allowance.
 inline double pole_cap_bound(const Problem& pr, int which, double phi_max) {
-  const double c = std::cos(phi_max), sn = std::sin(phi_max);
   double bound = -std::numeric_limits<double>::infinity();
+  // Caps that wide are coarse squares, which bisection refines anyway (and
+  // the argument needs [0, phi_max] shorter than a half period).
+  if (!(phi_max < 1.5)) return bound;
+  const double c = std::cos(phi_max), sn = std::sin(phi_max);
   for (int k = 0; k < 2; ++k) {
     const double h = pr.cap_h[which][k], kappa = pr.cap_kappa[which][k];
     const double at_end = h * c + kappa * sn;
