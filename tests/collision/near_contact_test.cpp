@@ -270,7 +270,7 @@ TEST(NearContact, CapsuleNearlyParallelToAFaceMatchesItsCoreReference) {
 // The duplicate-support and no-decrease exits say whether the tolerance was
 // reached: with a zero tolerance an answer may read "ok" only when its
 // certified gap is exactly zero; rim against rim (cone and cylinder, random
-// rotations) never gets there, and the stalled answers stay finite and
+// rotations) seldom gets there, and the stalled answers stay finite and
 // within their error bound of the converged ones.
 TEST(NearContact, ExitsAboveTheToleranceAreNotReportedOk) {
   std::mt19937_64 rng(305);
@@ -281,7 +281,7 @@ TEST(NearContact, ExitsAboveTheToleranceAreNotReportedOk) {
   const Cylinder cylinder{0.5, 0.7, 0.0};
   const Cone cone{0.6, 0.5, 0.0};
   int not_ok = 0;
-  for (int i = 0; i < 100; ++i) {
+  for (int i = 0; i < 1000; ++i) {
     const Eigen::Quaterniond qa(g(rng), g(rng), g(rng), g(rng)), qb(g(rng), g(rng), g(rng), g(rng));
     const Pose pa = Pose::from_quaternion(qa, Vec::Zero());
     const Pose pb = Pose::from_quaternion(qb, 2.5 * Vec(g(rng), g(rng), g(rng)).normalized());
@@ -299,7 +299,9 @@ TEST(NearContact, ExitsAboveTheToleranceAreNotReportedOk) {
     }
     EXPECT_NEAR(d.distance, loose.distance, loose.error_bound + d.error_bound + 1e-15) << i;
   }
-  EXPECT_GT(not_ok, 20);  // 37 of 100 (the rest: rim against a side line, exact)
+  // 43 of 1000: most rim-against-rim pairs reach a zero gap since GJK may
+  // take a few steps sideways (37 of the first 100 stalled before).
+  EXPECT_GT(not_ok, 20);
 }
 
 }  // namespace

@@ -48,7 +48,11 @@
 //   * w equals a simplex vertex (a duplicate support point), or |v|^2 fails
 //     to decrease strictly (rounding has taken over, or a NaN appeared in the
 //     sub-algorithm): the previous v, still the best, is kept; the status is
-//     ok only if the certified gap is within the tolerance, else stalled;
+//     ok only if the certified gap is within the tolerance, else stalled.
+//     Up to 4 steps in a row may go "sideways" first (|v|^2 up by at most
+//     16 eps of itself: a true decrease below rounding, as on the large flat
+//     faces of a ground plate), the best simplex restored if they find
+//     nothing better;
 //   * a non-finite support point: status degenerate;
 //   * the iteration cap: status max_iterations, never read as "separated".
 // gjk_intersect additionally stops as soon as the answer is known: separated
@@ -435,6 +439,13 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
   double vv = v.squaredNorm();
   double lower = 0.0;
   double signed_lower = -std::numeric_limits<double>::infinity();
+  // Steps without a decrease beyond rounding (see below), and the best
+  // simplex from before them.
+  constexpr int kMaxSideways = 4;
+  int sideways = 0;
+  GjkSimplex best_simplex;
+  Eigen::Vector3d best_v = v;
+  double best_vv = vv;
 
   for (;;) {
     if (vv <= zero * zero || (kBoolean && vv <= margin * margin)) {
@@ -495,13 +506,44 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     const double vv_next = sub.point.squaredNorm();
     // Strict decrease, written so that NaN fails it: keep the previous,
     // better simplex and stop (the gap was above the tolerance).
+    // Except for a few steps sideways: a step whose true decrease is below
+    // the rounding of |v|^2 (a few eps) while the gap is still large. Found
+    // by fuzzing: a small cone 5.124 below a flat cylinder of radius 63 625
+    // (a ground plate): the first two support points are opposite points of
+    // the plate's rim, the third a rim point at right angles, and the
+    // triangle through them is tilted by 1.6e-8 rad from the face, which
+    // lowers |v| by 1.3e-16 of itself; computed, it rose by 1 ulp, and GJK
+    // stopped `stalled` at 5.125 (bound 1e-3). The tilted v points the next
+    // support at the opposite rim, and the step after converges. The best
+    // simplex so far is kept aside and restored if the sideways steps end
+    // without going below it.
     if (!(vv_next < vv)) {
+      constexpr double kSidewaysRounding = 16.0 * std::numeric_limits<double>::epsilon();
+      if (vv_next <= vv * (1.0 + kSidewaysRounding) && sideways < kMaxSideways) {
+        if (sideways == 0) {
+          best_simplex = s;
+          best_v = v;
+          best_vv = vv;
+        }
+        ++sideways;
+        adopt(s, sub);
+        v = sub.point;
+        vv = vv_next;
+        continue;
+      }
       r.status = GjkStatus::stalled;
       break;
     }
+    if (sideways > 0 && vv_next < best_vv) sideways = 0;  // below the best: progress again
     adopt(s, sub);
     v = sub.point;
     vv = vv_next;
+  }
+  // Sideways steps that found nothing better: back to the best simplex.
+  if (sideways > 0 && !r.intersecting && best_vv < vv) {
+    s = best_simplex;
+    v = best_v;
+    vv = best_vv;
   }
 
   r.point_a = weighted(s.a, s);
