@@ -340,6 +340,39 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
   return out;
 }
 
+// Point and segment hulls (dimension 0 and 1, with their margins) are a
+// sphere and a capsule: penetration() gives them those shapes' exact paths
+// (revolution.hpp, tilted_revolution.hpp). Through EPA, a point hull on a
+// cylinder's axis, where the depth is the same over a circle of directions,
+// ended polytope_full on 200 of 200 random pairs (bounds up to 9e-4 of the
+// depth); a sphere there is exact.
+bool as_sphere_or_capsule(const Shape& shape, const Pose& pose, Shape& out, Pose& out_pose) {
+  const Polyhedron* p = std::get_if<Polyhedron>(&shape);
+  if (p == nullptr || !p->hull) return false;
+  const ConvexPolyhedron& h = *p->hull;
+  if (h.dimension() == 0 && h.vertex_count() == 1) {
+    out = Sphere{0.0, p->margin};
+    out_pose = {pose.rotation, pose.apply(h.offset() + h.vertex(0))};
+    return true;
+  }
+  if (h.dimension() == 1 && h.vertex_count() == 2) {
+    const Eigen::Vector3d d = h.vertex(1) - h.vertex(0);
+    const double length = d.norm();
+    if (!(length > 0.0) || !std::isfinite(length)) return false;
+    // A frame whose z axis is the segment: (e1, k x e1, k) is right-handed.
+    const Eigen::Vector3d k = d / length;
+    const Eigen::Vector3d e1 = k.unitOrthogonal();
+    Eigen::Matrix3d frame;
+    frame.col(0) = e1;
+    frame.col(1) = k.cross(e1);
+    frame.col(2) = k;
+    out = Capsule{0.5 * length, 0.0, p->margin};
+    out_pose = {pose.rotation * frame, pose.apply(h.offset() + 0.5 * (h.vertex(0) + h.vertex(1)))};
+    return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 bool pair_in_range(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
@@ -377,8 +410,13 @@ PenetrationResult penetration(const Shape& a, const Pose& pose_a, const Shape& b
     out.status = Status::invalid_input;
     return out;
   }
+  Shape sphere_a, sphere_b;  // a Sphere each: no allocation
+  Pose at_a = pose_a, at_b = pose_b;
+  const bool converted_a = as_sphere_or_capsule(a, pose_a, sphere_a, at_a);
+  const bool converted_b = as_sphere_or_capsule(b, pose_b, sphere_b, at_b);
   return std::visit(
-      [&](const auto& sa, const auto& sb) { return penetration_typed(sa, pose_a, sb, pose_b, cache, settings); }, a, b);
+      [&](const auto& sa, const auto& sb) { return penetration_typed(sa, at_a, sb, at_b, cache, settings); },
+      converted_a ? sphere_a : a, converted_b ? sphere_b : b);
 }
 
 }  // namespace hedra::collision

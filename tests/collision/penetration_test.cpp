@@ -510,6 +510,67 @@ TEST(PenetrationHardCases, BallCentredOnACylinderAxis) {
   }
 }
 
+// A point hull with a margin is a ball, a segment hull with a margin a
+// capsule: penetration() answers them as such (the ball's and the capsule's
+// exact paths). Deep on or near a cylinder's or cone's axis, where every
+// radial direction is about equally deep, the point hull went through EPA and
+// ended polytope_full on every pair (bounds up to 9e-4 of the depth). Now
+// status ok and the same answer as the ball or capsule, within rounding, and
+// the same as before elsewhere (random poses, separated or overlapping).
+TEST(PenetrationHardCases, PointAndSegmentHullsAnswerAsBallsAndCapsules) {
+  std::mt19937_64 rng(113);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Shape bigs[] = {Cylinder{50.0, 673.75, 50.0}, Cone{50.0, 100.0, 2.0}, Cylinder{0.4, 0.6, 0.0},
+                        Box{Vec(0.5, 0.3, 0.2), 0.1}};
+  int deep_checked = 0;
+  for (int i = 0; i < 400; ++i) {
+    const Shape& big = bigs[i % 4];
+    const Pose pa = random_pose(rng, 10.0);
+    const bool segment = (i / 4) % 2 == 1;
+    const double margin = 0.05 * (u(rng) + 1.0);
+    const Vec p0 = 0.3 * Vec(u(rng), u(rng), u(rng)), p1 = p0 + 0.4 * random_unit(rng);
+    const auto hull = segment ? make_hull({p0, p1}) : make_hull({p0});
+    ASSERT_EQ(hull->dimension(), segment ? 1 : 0);
+    // Near the big shape's axis (offsets 0 or 1e-13 .. 1e-3) in half of the
+    // pairs, anywhere within 2 sizes in the others.
+    const bool near_axis = i % 8 < 4 && i % 4 < 2;
+    const double off = (i / 8) % 3 == 0 ? 0.0 : std::pow(10.0, -13.0 + 10.0 * (u(rng) + 1.0) / 2.0);
+    const Vec local = near_axis ? Vec(off * u(rng), off * u(rng), 5.0 * u(rng)) : 2.0 * Vec(u(rng), u(rng), u(rng));
+    // The hull placed so that its point (or the segment's midpoint) is at `local`.
+    const Vec centre = segment ? Vec(0.5 * (p0 + p1)) : p0;
+    const Eigen::Matrix3d rb = near_axis && segment && i % 16 < 8
+                                   ? Eigen::Matrix3d(pa.rotation * Eigen::Quaterniond::FromTwoVectors(
+                                                                       p1 - p0, Vec::UnitZ()).toRotationMatrix())
+                                   : random_pose(rng, 1.0).rotation;  // coaxial segments in a quarter of them
+    const Pose pb{rb, pa.apply(local) - rb * centre};
+    const PenetrationResult r = penetration(big, pa, Polyhedron{hull, margin}, pb);
+    // The same body as a ball or a capsule.
+    const Vec world_centre = pb.apply(centre);
+    PenetrationResult e;
+    if (segment) {
+      const Vec k = (rb * (p1 - p0)).normalized();
+      const Pose pc{Eigen::Matrix3d(Eigen::Quaterniond::FromTwoVectors(Vec::UnitZ(), k)), world_centre};
+      e = penetration(big, pa, Capsule{0.5 * (p1 - p0).norm(), 0.0, margin}, pc);
+    } else {
+      e = penetration(big, pa, Sphere{0.0, margin}, Pose::from_translation(world_centre));
+    }
+    const double size = 2.0 * 700.0;
+    ASSERT_EQ(r.status, Status::ok) << i;
+    EXPECT_EQ(e.status, Status::ok) << i;
+    EXPECT_NEAR(r.distance, e.distance, 1e-12 * size) << i;
+    EXPECT_LE(r.error_bound, 1e-10 * size) << i;
+    EXPECT_NEAR(r.normal.norm(), 1.0, 1e-12) << i;
+    // Consistent witnesses: point_b - point_a = distance * normal.
+    EXPECT_LT((r.point_b - r.point_a - r.distance * r.normal).norm(), 1e-9 * size) << i;
+    if (near_axis && r.distance < 0.0) ++deep_checked;
+    // Swapped: the same depth, the normal reversed.
+    const PenetrationResult s = penetration(Polyhedron{hull, margin}, pb, big, pa);
+    EXPECT_EQ(s.status, Status::ok) << i;
+    EXPECT_NEAR(s.distance, r.distance, 1e-12 * size) << i;
+  }
+  EXPECT_GT(deep_checked, 50);
+}
+
 TEST(PenetrationHardCases, CylinderRestingOnABox) {  // fcl#375
   const Box box{{2.0, 2.0, 0.5}, 0.0};
   const Cylinder cyl{0.5, 0.5, 0.0};
