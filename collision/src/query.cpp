@@ -345,7 +345,9 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
 // (revolution.hpp, tilted_revolution.hpp). Through EPA, a point hull on a
 // cylinder's axis, where the depth is the same over a circle of directions,
 // ended polytope_full on 200 of 200 random pairs (bounds up to 9e-4 of the
-// depth); a sphere there is exact.
+// depth); a sphere there is exact. (A GjkCache shared with distance() on
+// the same segment hull then holds axes in two frames: only the warm start
+// suffers.)
 bool as_sphere_or_capsule(const Shape& shape, const Pose& pose, Shape& out, Pose& out_pose) {
   const Polyhedron* p = std::get_if<Polyhedron>(&shape);
   if (p == nullptr || !p->hull) return false;

@@ -171,8 +171,6 @@ TEST(TiltedRevolution, CoincidentCylindersHaveTheSumOfTheirRadiiAsDepth) {
   }
 }
 
-// Directly, at any tilt: the same answer as EPA where EPA converged (both
-// certified, so their intervals overlap), and honest when the cap is hit.
 // A small core (wider than long) centred deep inside a large cylinder whose
 // radius equals its half length, axes 1e-9 .. 1e-3 rad apart (found by
 // fuzzing: such pairs ended polytope_full). The depth along A's axis is
@@ -211,6 +209,8 @@ TEST(TiltedRevolution, SmallCoresDeepInALargeCylinderAreCertifiedAtItsCap) {
   EXPECT_EQ(checked, 42);
 }
 
+// Directly, at any tilt: the same answer as EPA where EPA converged (both
+// certified, so their intervals overlap), and honest when the cap is hit.
 TEST(TiltedRevolution, AgreesWithEpaAtAnyTilt) {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(0.0, 1.0);
