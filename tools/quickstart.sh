@@ -74,5 +74,5 @@ cmake -S . -B build ${generator[@]+"${generator[@]}"} -DCMAKE_BUILD_TYPE=Release
 say "building with $jobs jobs"
 cmake --build build --parallel "$jobs"
 
-say "build/bin/hedra hull tools/data/demo_points.xyz"
-build/bin/hedra hull tools/data/demo_points.xyz
+say "build/bin/hedra hull tools/cli/data/demo_points.xyz"
+build/bin/hedra hull tools/cli/data/demo_points.xyz

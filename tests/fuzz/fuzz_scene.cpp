@@ -12,8 +12,8 @@
 #include <string>
 
 #include "fuzz_input.hpp"
-#include "scene.hpp"
-#include "scene_runner.hpp"
+#include "scene/scene.hpp"
+#include "scene/scene_runner.hpp"
 
 namespace {
 

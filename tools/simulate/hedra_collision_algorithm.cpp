@@ -1,5 +1,5 @@
 // hedra's contact manifolds as a Bullet collision algorithm (see the header).
-#include "hedra_collision_algorithm.hpp"
+#include "simulate/hedra_collision_algorithm.hpp"
 
 #include <atomic>
 #include <cmath>

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "scenes.hpp"
+#include "simulate/scenes.hpp"
 
 int main(int argc, char** argv) {
   using namespace hedra::simulate;

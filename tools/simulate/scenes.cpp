@@ -2,7 +2,7 @@
 // takes three lines (marked "hedra:" below): a ShapeCache, a CreateFunc and
 // register_hedra() on the dispatcher before the world steps; everything else
 // is an ordinary Bullet world.
-#include "scenes.hpp"
+#include "simulate/scenes.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "exact_reference.hpp"
-#include "hedra_collision_algorithm.hpp"
+#include "simulate/hedra_collision_algorithm.hpp"
 
 namespace hedra::simulate {
 namespace {

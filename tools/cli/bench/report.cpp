@@ -1,0 +1,278 @@
+// `hedra bench`'s CSV files and markdown report (see report.hpp).
+#include "cli/bench/report.hpp"
+
+#include <sys/utsname.h>
+
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "scene/timing.hpp"
+
+namespace hedra::tool::bench {
+
+namespace {
+
+std::string fmt(const char* format, double x) {
+  char text[48];
+  std::snprintf(text, sizeof text, format, x);
+  return text;
+}
+std::string g6(double x) { return fmt("%.6g", x); }
+std::string e3(double x) { return fmt("%.2e", x); }
+std::string full(double x) { return fmt("%.17g", x); }
+std::string opt(const std::optional<double>& x, std::string (*f)(double)) { return x ? f(*x) : std::string(); }
+
+// A CSV field, quoted when it holds a comma, a quote or a line break.
+std::string csv(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (const char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string join(const std::vector<std::string>& items, const std::string& separator) {
+  std::string out;
+  for (const std::string& item : items) out += (out.empty() ? "" : separator) + item;
+  return out;
+}
+
+std::string count_text(std::size_t n) { return std::to_string(n); }
+
+// Time for a table cell: ns below 10 us, else us or ms.
+std::string time_cell(double ns) { return ns > 0 ? format_time(ns) : "-"; }
+
+}  // namespace
+
+std::string machine_description() {
+  std::string cpu = "unknown CPU";
+  std::ifstream info("/proc/cpuinfo");
+  for (std::string line; std::getline(info, line);) {
+    if (line.rfind("model name", 0) == 0) {
+      const std::size_t colon = line.find(':');
+      if (colon != std::string::npos) cpu = line.substr(colon + 2);
+      break;
+    }
+  }
+  utsname names{};
+  std::string system = "unknown system";
+  if (uname(&names) == 0) system = std::string(names.sysname) + " " + names.release + " " + names.machine;
+  return cpu + ", " + std::to_string(std::thread::hardware_concurrency()) + " cores, " + system;
+}
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  double a = 0, b = 0, c = 0;
+  if (!(in >> a >> b >> c)) return "unknown";
+  return fmt("%.2f", a) + " " + fmt("%.2f", b) + " " + fmt("%.2f", c);
+}
+
+std::string summary_csv(const BenchReport& report) {
+  std::string out =
+      "family,method,tolerance,cases,supported,answered,partial,failures,time_median_ns,time_p99_ns,"
+      "abs_error_median,abs_error_p99,abs_error_max,rel_error_median,rel_error_p99,rel_error_max,"
+      "normal_angle_median,failure_kinds,unsupported\n";
+  for (const FamilyRun& family : report.families) {
+    for (std::size_t m = 0; m < report.methods.size() && m < family.results.size(); ++m) {
+      const Method& method = report.methods[m];
+      const Summary s = summarize(family.results[m]);
+      const bool errors = s.answered > 0;
+      out += csv(family.name) + "," + csv(method.name) + "," + (method.is_hedra ? e3(method.tolerance) : "") + "," +
+             count_text(s.cases) + "," + count_text(s.supported) + "," + count_text(s.answered) + "," +
+             count_text(s.partial) + "," + count_text(s.failures) + "," +
+             (s.time_median_ns > 0 ? g6(s.time_median_ns) : "") + "," + (s.time_p99_ns > 0 ? g6(s.time_p99_ns) : "") +
+             "," + (errors ? e3(s.abs_median) : "") + "," + (errors ? e3(s.abs_p99) : "") + "," +
+             (errors ? e3(s.abs_max) : "") + "," + (errors ? e3(s.rel_median) : "") + "," +
+             (errors ? e3(s.rel_p99) : "") + "," + (errors ? e3(s.rel_max) : "") + "," + opt(s.angle_median, e3) + "," +
+             csv(join(s.failure_kinds, "; ")) + "," + csv(join(s.unsupported, "; ")) + "\n";
+    }
+  }
+  return out;
+}
+
+std::string cases_csv(const BenchReport& report) {
+  std::string out =
+      "family,case,label,parameter,method,supported,status,verdict,failure,intersecting,distance,reference,"
+      "reference_error_bound,pair_size,tolerance,abs_error,rel_error,normal_angle,time_ns\n";
+  for (const FamilyRun& family : report.families) {
+    for (std::size_t m = 0; m < report.methods.size() && m < family.results.size(); ++m) {
+      for (std::size_t k = 0; k < family.cases.size() && k < family.results[m].size(); ++k) {
+        const BenchCase& c = family.cases[k];
+        const CaseResult& r = family.results[m][k];
+        out += csv(family.name) + "," + std::to_string(k) + "," + csv(c.label) + "," +
+               (std::isfinite(c.parameter) ? g6(c.parameter) : "") + "," + csv(report.methods[m].name) + "," +
+               (r.answer.supported ? "1" : "0") + "," + csv(r.answer.status) + "," + to_string(r.judgement.verdict) +
+               "," + csv(r.failure_kind) + "," + (r.answer.intersecting ? "1" : "0") + "," +
+               opt(r.answer.distance, full) + "," + full(c.reference.exact.distance) + "," +
+               e3(c.reference.exact.error_bound) + "," + g6(c.reference.pair_size) + "," + e3(r.tolerance) + "," +
+               opt(r.abs_error, e3) + "," + opt(r.rel_error, e3) + "," + opt(r.judgement.normal_angle, e3) + "," +
+               (r.answer.time_ns > 0 ? g6(r.answer.time_ns) : "") + "\n";
+      }
+    }
+  }
+  return out;
+}
+
+std::string stability_csv(const BenchReport& report) {
+  std::string out = "family,parameter_name,parameter,method,cases,failures,rel_error_median,rel_error_max\n";
+  for (const FamilyRun& family : report.families) {
+    if (family.parameter.empty()) continue;
+    for (std::size_t m = 0; m < report.methods.size() && m < family.results.size(); ++m) {
+      for (const StabilityRow& row : stability(family, family.results[m])) {
+        out += csv(family.name) + "," + csv(family.parameter) + "," + g6(row.parameter) + "," +
+               csv(report.methods[m].name) + "," + count_text(row.cases) + "," + count_text(row.failures) + "," +
+               (row.cases ? e3(row.rel_median) : "") + "," + (row.cases ? e3(row.rel_max) : "") + "\n";
+      }
+    }
+  }
+  return out;
+}
+
+std::string markdown_report(const BenchReport& report, const RunInfo& info) {
+  std::ostringstream md;
+  md << "# hedra bench\n\n";
+  md << "- date: " << info.date << "\n- machine: " << info.machine << "\n- command: `" << info.command << "`\n";
+  md << "- workload: " << info.source << (info.quick ? " (quick)" : "") << ", seed " << info.seed << "\n";
+  md << "- load average before / after: " << info.load_before << " / " << info.load_after << "\n";
+  md << "- run time: " << fmt("%.0f", report.elapsed_seconds) << " s (timing and judging; references before)\n";
+  md << "- peers: " << (report.peers_built ? "built" : "not built (HEDRA_WITH_PEERS=OFF): hedra only") << "\n\n";
+
+  md << "Errors are against the exact reference (the Minkowski-difference hull, qhull): |answer - reference| "
+        "for polytopes, the distance from the answer to the reference's certified bracket for curved pairs; "
+        "relative = absolute / the pair's size. Times are per query: the median over timed loops per case, then the "
+        "median (p99) over "
+        "the family's cases. A failure is a wrong intersecting verdict, an error above the tolerance "
+        "(the reference's bound + max(fail tolerance, 2 x requested tolerance) x size), a normal off a unique "
+        "reference normal by more than 1e-3 rad (judged where 2 x requested <= fail tolerance), a NaN, a crash or "
+        "timeout, or a cap.\n\n";
+
+  // Headline: hedra's default beside every peer, per family.
+  std::size_t hedra_index = 0;
+  for (std::size_t m = 0; m < report.methods.size(); ++m)
+    if (report.methods[m].is_default) hedra_index = m;
+  md << "## Headline\n\nPer family: hedra's median time, max relative error and failures; for each other "
+        "method, its median time as a ratio to hedra's, its max relative error, and failures (`-`: nothing "
+        "answered with a distance).\n\n";
+  md << "| family | hedra |";
+  for (std::size_t m = 0; m < report.methods.size(); ++m)
+    if (!report.methods[m].is_hedra) md << " " << report.methods[m].name << " |";
+  md << "\n|---|---|";
+  for (const Method& method : report.methods)
+    if (!method.is_hedra) md << "---|";
+  md << "\n";
+  for (const FamilyRun& family : report.families) {
+    if (family.results.size() <= hedra_index) continue;
+    const Summary h = summarize(family.results[hedra_index]);
+    md << "| " << family.name << " | " << time_cell(h.time_median_ns) << ", " << e3(h.rel_max) << ", " << h.failures
+       << " |";
+    for (std::size_t m = 0; m < report.methods.size() && m < family.results.size(); ++m) {
+      if (report.methods[m].is_hedra) continue;
+      const Summary s = summarize(family.results[m]);
+      if (s.supported == 0) {
+        md << " unsupported |";
+        continue;
+      }
+      const std::string ratio = h.time_median_ns > 0 && s.time_median_ns > 0
+                                    ? fmt("%.2fx", s.time_median_ns / h.time_median_ns)
+                                    : std::string("-");
+      md << " " << ratio << ", " << (s.answered ? e3(s.rel_max) : std::string("-")) << ", " << s.failures;
+      if (s.supported < s.cases) md << " (" << s.supported << "/" << s.cases << ")";
+      md << " |";
+    }
+    md << "\n";
+  }
+  md << "\n";
+
+  md << "## Families\n\n";
+  for (const FamilyRun& family : report.families) {
+    const FamilyInfo* fi = find_family(family.name);
+    md << "### " << family.name << "\n\n"
+       << (fi ? fi->description : "scene queries") << ": " << family.cases.size() << " cases";
+    if (family.dropped) md << " (" << family.dropped << " dropped: no reference)";
+    md << ", references in " << fmt("%.1f", family.reference_seconds) << " s.\n\n";
+    md << "| method | answered / cases | failures | median time | p99 time | median rel error | p99 rel error | max "
+          "rel error | max abs error | median normal angle |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    for (std::size_t m = 0; m < report.methods.size() && m < family.results.size(); ++m) {
+      const Summary s = summarize(family.results[m]);
+      md << "| " << report.methods[m].name << " | " << s.answered << " / " << s.cases;
+      if (s.partial) md << " (" << s.partial << " boolean only)";
+      md << " | " << s.failures;
+      if (!s.failure_kinds.empty()) md << " (" << join(s.failure_kinds, ", ") << ")";
+      md << " | " << time_cell(s.time_median_ns) << " | " << time_cell(s.time_p99_ns) << " | ";
+      if (s.answered) {
+        md << e3(s.rel_median) << " | " << e3(s.rel_p99) << " | " << e3(s.rel_max) << " | " << e3(s.abs_max);
+      } else {
+        md << "- | - | - | -";
+      }
+      md << " | " << (s.angle_median ? e3(*s.angle_median) : std::string("-")) << " |\n";
+    }
+    md << "\n";
+  }
+
+  bool any_stability = false;
+  for (const FamilyRun& family : report.families) any_stability = any_stability || !family.parameter.empty();
+  if (any_stability) {
+    md << "## Stability\n\nMax relative error per value of each extreme family's parameter (failures in "
+          "brackets).\n\n";
+    for (const FamilyRun& family : report.families) {
+      if (family.parameter.empty() || family.results.empty()) continue;
+      const std::vector<StabilityRow> first = stability(family, family.results[0]);
+      md << "### " << family.name << " (" << family.parameter << ")\n\n| method |";
+      for (const StabilityRow& row : first) md << " " << g6(row.parameter) << " |";
+      md << "\n|---|";
+      for (std::size_t k = 0; k < first.size(); ++k) md << "---|";
+      md << "\n";
+      for (std::size_t m = 0; m < report.methods.size() && m < family.results.size(); ++m) {
+        md << "| " << report.methods[m].name << " |";
+        for (const StabilityRow& row : stability(family, family.results[m])) {
+          md << " " << (row.cases ? e3(row.rel_max) : std::string("-"));
+          if (row.failures) md << " (" << row.failures << ")";
+          md << " |";
+        }
+        md << "\n";
+      }
+      md << "\n";
+    }
+  }
+
+  md << "## What each method could not pose\n\n";
+  bool any_unsupported = false;
+  for (std::size_t m = 0; m < report.methods.size(); ++m) {
+    for (const FamilyRun& family : report.families) {
+      if (m >= family.results.size()) continue;
+      const Summary s = summarize(family.results[m]);
+      if (s.unsupported.empty() && s.partial == 0) continue;
+      any_unsupported = true;
+      md << "- " << report.methods[m].name << ", " << family.name << ": ";
+      if (!s.unsupported.empty()) md << "unsupported " << join(s.unsupported, "; ");
+      if (s.partial) md << (s.unsupported.empty() ? "" : "; ") << s.partial << " answered the boolean only";
+      md << "\n";
+    }
+  }
+  if (!any_unsupported) md << "Every method posed every case.\n";
+  md << "\n";
+
+  std::size_t dropped = 0;
+  for (const FamilyRun& family : report.families) dropped += family.dropped;
+  if (dropped) {
+    md << "## Dropped cases\n\n";
+    for (const FamilyRun& family : report.families)
+      for (const std::string& note : family.notes) md << "- " << note << "\n";
+    md << "\n";
+  }
+  return md.str();
+}
+
+}  // namespace hedra::tool::bench

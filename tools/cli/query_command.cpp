@@ -1,0 +1,176 @@
+// `hedra query`: reads a scene (scene.hpp: all validation), builds the
+// shapes its queries use, runs each query N times (scene_runner.hpp) and
+// prints the answers: a table, or with --json the result document of
+// scene-format.md. With --stats it adds what ran (GJK and EPA iterations,
+// whether EPA and a manifold ran) per query and what was built per scene; in
+// JSON these are optional "stats" fields, which the contract allows.
+//
+// Fields a query type does not define are JSON null (the distance and
+// normal of an intersect query; the normal and closest points of a distance
+// query between overlapping shapes); nothing is ever NaN.
+#include "cli/query_command.hpp"
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli/cli_validators.hpp"
+#include "cli/progress.hpp"
+#include "scene/scene_runner.hpp"
+#include "scene/timing.hpp"
+
+namespace hedra::tool {
+
+namespace {
+
+struct QueryOptions {
+  std::string scene;
+  bool json = false;
+  int repeat = 1;
+  bool stats = false;
+};
+
+constexpr int kMaxRepeat = 1000000;
+
+nlohmann::ordered_json vector_json(const std::optional<Eigen::Vector3d>& v) {
+  if (!v) return nullptr;
+  return {(*v)[0], (*v)[1], (*v)[2]};
+}
+
+std::string format_json(const LoadedScene& loaded, const std::vector<QueryOutcome>& outcomes, bool stats) {
+  const Scene& scene = *loaded.scene;
+  nlohmann::ordered_json document;
+  document["scene"] = scene.name;
+  nlohmann::ordered_json results = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < outcomes.size(); ++i) {
+    const QueryOutcome& o = outcomes[i];
+    const QuerySpec& q = scene.queries[i];
+    nlohmann::ordered_json r;
+    r["a"] = scene.bodies[q.a].name;
+    r["b"] = scene.bodies[q.b].name;
+    r["type"] = to_string(q.type);
+    r["intersecting"] = o.intersecting;
+    r["distance"] = o.distance ? nlohmann::ordered_json(*o.distance) : nlohmann::ordered_json(nullptr);
+    r["point_a"] = vector_json(o.point_a);
+    r["point_b"] = vector_json(o.point_b);
+    r["normal"] = vector_json(o.normal);
+    nlohmann::ordered_json contacts = nlohmann::ordered_json::array();
+    for (const ContactPoint& c : o.contacts) {
+      contacts.push_back({{"point", vector_json(c.point)}, {"depth", c.depth}});
+    }
+    r["contacts"] = std::move(contacts);
+    r["iterations"] = {{"gjk", o.gjk_iterations}, {"epa", o.epa_iterations}};
+    r["status"] = o.status;
+    r["time_ns"] = o.time_ns;
+    if (stats) {
+      r["stats"] = {{"gjk_ran", true},
+                    {"gjk_iterations", o.gjk_iterations},
+                    {"epa_ran", o.epa_ran},
+                    {"epa_iterations", o.epa_iterations},
+                    {"support_calls", o.support_calls},
+                    {"manifold_ran", o.manifold_ran},
+                    {"error_bound", o.error_bound}};
+    }
+    results.push_back(std::move(r));
+  }
+  document["results"] = std::move(results);
+  if (stats) {
+    const BuiltScene& built = loaded.built;
+    document["stats"] = {{"shapes_defined", scene.shapes.size()},
+                         {"shapes_built", built.shapes_built},
+                         {"hulls_built", built.hulls_built},
+                         {"mesh_files_read", built.mesh_files_read},
+                         {"bodies", scene.bodies.size()},
+                         {"queries", scene.queries.size()},
+                         {"build_ns", built.build_ns}};
+  }
+  return document.dump() + "\n";
+}
+
+std::string format_vector(const std::optional<Eigen::Vector3d>& v) {
+  if (!v) return "-";
+  char text[96];
+  std::snprintf(text, sizeof text, "[%.6g, %.6g, %.6g]", (*v)[0], (*v)[1], (*v)[2]);
+  return text;
+}
+
+std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcome>& outcomes,
+                        const QueryOptions& options) {
+  const Scene& scene = *loaded.scene;
+  std::string text = "scene " + scene.name + " (" + scene.file + "): " + std::to_string(scene.queries.size()) +
+                     (scene.queries.size() == 1 ? " query" : " queries") + ", median of " +
+                     std::to_string(options.repeat) + (options.repeat == 1 ? " run\n" : " runs\n");
+  char line[512];
+  std::snprintf(line, sizeof line, "%3s  %-12s %-12s %-11s %-14s %-5s %-22s %-32s %4s %4s %10s\n", "#", "a", "b",
+                "type", "status", "hit", "distance", "normal", "gjk", "epa", "time");
+  text += line;
+  for (std::size_t i = 0; i < outcomes.size(); ++i) {
+    const QueryOutcome& o = outcomes[i];
+    const QuerySpec& q = scene.queries[i];
+    const std::string distance = o.distance ? shortest(*o.distance) : "-";
+    std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-5s %-22s %-32s %4d %4d %10s\n", i,
+                  scene.bodies[q.a].name.c_str(), scene.bodies[q.b].name.c_str(), to_string(q.type), o.status.c_str(),
+                  o.intersecting ? "yes" : "no", distance.c_str(), format_vector(o.normal).c_str(), o.gjk_iterations,
+                  o.epa_iterations, format_time(o.time_ns).c_str());
+    text += line;
+  }
+  if (options.stats) {
+    const BuiltScene& built = loaded.built;
+    std::snprintf(line, sizeof line, "stats: %d of %zu shapes built (%d hull%s, %d mesh file%s read) in %s\n",
+                  built.shapes_built, scene.shapes.size(), built.hulls_built, built.hulls_built == 1 ? "" : "s",
+                  built.mesh_files_read, built.mesh_files_read == 1 ? "" : "s", format_time(built.build_ns).c_str());
+    text += line;
+    for (std::size_t i = 0; i < outcomes.size(); ++i) {
+      const QueryOutcome& o = outcomes[i];
+      std::snprintf(line, sizeof line, "  #%zu %s: gjk %d iteration%s, %s, %d support call%s, %s, error bound %.3g\n",
+                    i, to_string(o.type), o.gjk_iterations, o.gjk_iterations == 1 ? "" : "s",
+                    o.epa_ran ? ("epa " + std::to_string(o.epa_iterations) + " iterations").c_str() : "no epa",
+                    o.support_calls, o.support_calls == 1 ? "" : "s", o.manifold_ran ? "manifold" : "no manifold",
+                    o.error_bound);
+      text += line;
+    }
+  }
+  return text;
+}
+
+int run_query_command(const QueryOptions& options, std::string& out, std::ostream& err) {
+  Progress progress("hedra query");  // stderr, only for work longer than a couple of seconds
+  progress.stage("reading " + options.scene + " and building its shapes");
+  std::string error;
+  std::optional<LoadedScene> loaded = prepare_scene(options.scene, error);
+  if (!loaded) {
+    err << error << "\n";
+    return kExitBadInput;
+  }
+  std::vector<QueryOutcome> outcomes;
+  outcomes.reserve(loaded->scene->queries.size());
+  progress.stage("running queries", loaded->scene->queries.size());
+  for (std::size_t i = 0; i < loaded->scene->queries.size(); ++i) {
+    outcomes.push_back(run_query(loaded->built, i, options.repeat));
+    progress.advance();
+  }
+  progress.stage("formatting the output");
+  out = options.json ? format_json(*loaded, outcomes, options.stats) : format_text(*loaded, outcomes, options);
+  return kExitOk;
+}
+
+}  // namespace
+
+Subcommand add_query_command(CLI::App& app) {
+  auto options = std::make_shared<QueryOptions>();
+  CLI::App* command = app.add_subcommand("query", "Run the queries of a scene file and print the answers");
+  command->add_option("scene", options->scene, "Scene file (JSON, see the README)")->required();
+  command->add_flag("--json", options->json, "Print the results as one JSON document");
+  command->add_option("--repeat", options->repeat, "Run each query N times and report the median time")
+      ->check(whole_number_in(1, kMaxRepeat, "repeat count"))
+      ->type_name("N");
+  command->add_flag("--stats", options->stats,
+                    "Also report which stages ran per query and which shapes were built per scene");
+  return Subcommand{command,
+                    [options](std::string& out, std::ostream& err) { return run_query_command(*options, out, err); }};
+}
+
+}  // namespace hedra::tool

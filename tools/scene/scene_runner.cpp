@@ -1,0 +1,220 @@
+// Query execution for the scene commands (see scene_runner.hpp).
+#include "scene/scene_runner.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <hedra/collision/manifold.hpp>
+#include <hedra/collision/query.hpp>
+#include <optional>
+#include <utility>
+
+#include "scene/timing.hpp"
+
+namespace hedra::tool {
+
+namespace {
+
+// Runs `call` `repeat` (>= 1) times, timing each call alone, and returns
+// the last answer; `time_ns` receives the median. The previous answer is
+// replaced outside the timed span.
+template <class Call>
+auto timed(int repeat, double& time_ns, Call&& call) {
+  decltype(call()) result{};
+  std::vector<double> times;
+  times.reserve(static_cast<std::size_t>(repeat > 0 ? repeat : 1));
+  for (int i = 0; i < repeat || i == 0; ++i) {
+    const Clock::time_point start = Clock::now();
+    auto answer = call();
+    const Clock::time_point stop = Clock::now();
+    times.push_back(elapsed_ns(start, stop));
+    result = std::move(answer);
+  }
+  time_ns = median(std::move(times));
+  return result;
+}
+
+bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
+
+// Zero without its sign: a touching pair's signed distance is -(0 depth) =
+// -0, which readers of the output would take for a (tiny) penetration.
+double unsigned_zero(double x) { return x == 0.0 ? 0.0 : x; }
+Eigen::Vector3d unsigned_zero(const Eigen::Vector3d& v) {
+  return {unsigned_zero(v.x()), unsigned_zero(v.y()), unsigned_zero(v.z())};
+}
+
+// Fills the geometric outputs, keeping only finite ones: a non-finite value
+// is dropped and reported as status "non_finite" (never printed as NaN).
+void set_geometry(QueryOutcome& out, double distance, const Eigen::Vector3d& normal, const Eigen::Vector3d& point_a,
+                  const Eigen::Vector3d& point_b, bool with_normal) {
+  if (std::isfinite(distance)) {
+    out.distance = unsigned_zero(distance);
+  } else if (out.ok()) {
+    out.status = "non_finite";
+  }
+  if (!with_normal) return;
+  if (finite(normal) && finite(point_a) && finite(point_b) && normal.squaredNorm() > 0.0) {
+    out.normal = unsigned_zero(normal);
+    out.point_a = unsigned_zero(point_a);
+    out.point_b = unsigned_zero(point_b);
+  } else if (out.ok()) {
+    out.status = "non_finite";
+  }
+}
+
+QueryOutcome run_intersect(const collision::Shape& a, const collision::Pose& pa, const collision::Shape& b,
+                           const collision::Pose& pb, int repeat) {
+  QueryOutcome out;
+  out.type = QueryType::intersect;
+  const collision::IntersectResult r = timed(repeat, out.time_ns, [&] { return collision::intersect(a, pa, b, pb); });
+  out.status = collision::to_string(r.status);
+  out.intersecting = r.intersecting;
+  out.gjk_iterations = r.iterations;
+  out.support_calls = r.support_calls;
+  return out;
+}
+
+QueryOutcome run_distance(const collision::Shape& a, const collision::Pose& pa, const collision::Shape& b,
+                          const collision::Pose& pb, int repeat) {
+  QueryOutcome out;
+  out.type = QueryType::distance;
+  const collision::DistanceResult r = timed(repeat, out.time_ns, [&] { return collision::distance(a, pa, b, pb); });
+  out.status = collision::to_string(r.status);
+  out.intersecting = r.intersecting;
+  out.gjk_iterations = r.iterations;
+  out.support_calls = r.support_calls;
+  out.error_bound = std::isfinite(r.error_bound) ? r.error_bound : 0.0;
+  // The normal and closest points are defined only between separated
+  // shapes (DistanceResult: valid when ok and not intersecting).
+  const bool separated = r.status == collision::Status::ok && !r.intersecting;
+  set_geometry(out, r.distance, r.normal, r.point_a, r.point_b, separated);
+  return out;
+}
+
+QueryOutcome run_penetration(const collision::Shape& a, const collision::Pose& pa, const collision::Shape& b,
+                             const collision::Pose& pb, int repeat) {
+  QueryOutcome out;
+  out.type = QueryType::penetration;
+  const collision::PenetrationResult r =
+      timed(repeat, out.time_ns, [&] { return collision::penetration(a, pa, b, pb); });
+  out.status = collision::to_string(r.status);
+  out.intersecting = r.intersecting;
+  out.gjk_iterations = r.gjk_iterations;
+  out.epa_iterations = r.epa_iterations;
+  out.support_calls = r.support_calls;
+  // PenetrationResult reports EPA only through its iteration count, so this
+  // reads "EPA expanded": an EPA entered on touching cores that answers from
+  // a flat GJK simplex without one expansion shows as not run.
+  out.epa_ran = r.epa_iterations > 0;
+  out.error_bound = std::isfinite(r.error_bound) ? r.error_bound : 0.0;
+  // Outputs are finite (best so far) for every status but these two.
+  const bool defined = r.status != collision::Status::degenerate && r.status != collision::Status::invalid_input;
+  if (defined) {
+    set_geometry(out, r.distance, r.normal, r.point_a, r.point_b, true);
+  }
+  return out;
+}
+
+// The contact query: collision::contact() (SAT + clipping for polytopes,
+// dedicated paths for curved shapes, see manifold.hpp), its deepest
+// witnesses as point_a/point_b and its manifold as `contacts`. The format
+// answers a contact query "as penetration": when the manifold finds the pair
+// separated beyond its contact distance (a SAT lower bound, no witnesses),
+// the exact distance and closest points come from collision::penetration(),
+// timed together with the manifold.
+QueryOutcome run_contact(const collision::Shape& a, const collision::Pose& pa, const collision::Shape& b,
+                         const collision::Pose& pb, int repeat) {
+  QueryOutcome out;
+  out.type = QueryType::contact;
+  struct Answer {
+    collision::ContactResult manifold;
+    std::optional<collision::PenetrationResult> exact;
+  };
+  const Answer r = timed(repeat, out.time_ns, [&] {
+    Answer answer{collision::contact(a, pa, b, pb), std::nullopt};
+    if (answer.manifold.path == collision::ContactPath::separated && answer.manifold.count == 0) {
+      answer.exact = collision::penetration(a, pa, b, pb);
+    }
+    return answer;
+  });
+  out.manifold_ran = true;
+  if (r.exact) {
+    const collision::PenetrationResult& e = *r.exact;
+    out.status = collision::to_string(e.status);
+    out.intersecting = e.intersecting;
+    out.gjk_iterations = e.gjk_iterations;
+    out.epa_iterations = e.epa_iterations;
+    out.support_calls = e.support_calls;
+    out.epa_ran = e.epa_iterations > 0;
+    out.error_bound = std::isfinite(e.error_bound) ? e.error_bound : 0.0;
+    if (e.status != collision::Status::degenerate && e.status != collision::Status::invalid_input) {
+      set_geometry(out, e.distance, e.normal, e.point_a, e.point_b, true);
+    }
+    return out;
+  }
+  const collision::ContactResult& m = r.manifold;
+  out.status = collision::to_string(m.status);
+  out.intersecting = m.intersecting;
+  const bool defined = m.status != collision::Status::degenerate && m.status != collision::Status::invalid_input;
+  if (defined) {
+    set_geometry(out, m.distance, m.normal, m.point_a, m.point_b, true);
+    for (int i = 0; i < m.count; ++i) {
+      const collision::ContactPoint& c = m.points[static_cast<std::size_t>(i)];
+      if (!finite(c.point) || !std::isfinite(c.depth)) {
+        if (out.ok()) out.status = "non_finite";
+        continue;
+      }
+      out.contacts.push_back({unsigned_zero(c.point), unsigned_zero(c.depth)});
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat) {
+  const Scene& scene = *built.scene;
+  const QuerySpec& query = scene.queries[index];
+  const std::size_t shape_a = scene.bodies[query.a].shape;
+  const std::size_t shape_b = scene.bodies[query.b].shape;
+  // build_shapes() built every shape a query uses.
+  const collision::Shape& a = *built.shapes[shape_a];
+  const collision::Shape& b = *built.shapes[shape_b];
+  const collision::Pose& pa = built.poses[query.a];
+  const collision::Pose& pb = built.poses[query.b];
+  switch (query.type) {
+    case QueryType::intersect:
+      return run_intersect(a, pa, b, pb, repeat);
+    case QueryType::distance:
+      return run_distance(a, pa, b, pb, repeat);
+    case QueryType::penetration:
+      return run_penetration(a, pa, b, pb, repeat);
+    case QueryType::contact:
+      return run_contact(a, pa, b, pb, repeat);
+  }
+  return run_contact(a, pa, b, pb, repeat);
+}
+
+std::optional<LoadedScene> prepare_scene(const std::string& path, std::string& error) {
+  LoadSceneResult loaded = load_scene(path);
+  if (!loaded.ok()) {
+    error = loaded.error;
+    return std::nullopt;
+  }
+  LoadedScene result;
+  result.scene = std::make_unique<Scene>(std::move(*loaded.scene));
+  BuildShapesResult built = build_shapes(*result.scene);
+  if (!built.ok()) {
+    error = built.error;
+    return std::nullopt;
+  }
+  result.built = std::move(*built.built);
+  return result;
+}
+
+std::string shortest(double x) {
+  char text[64];
+  const std::to_chars_result r = std::to_chars(text, text + sizeof text, x);
+  return std::string(text, r.ptr);
+}
+
+}  // namespace hedra::tool

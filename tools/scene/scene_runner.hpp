@@ -1,0 +1,79 @@
+// Running a scene's queries with hedra::collision: one QuerySpec -> one
+// QueryOutcome, shared by `hedra query` (prints it) and `hedra check`
+// (compares it with the expectation).
+//
+// Each query type calls exactly the library function that answers it, so
+// each pays only for what it asks (scene-format.md):
+//   intersect   -> collision::intersect    (boolean GJK, early exit; no EPA)
+//   distance    -> collision::distance     (GJK; no EPA)
+//   penetration -> collision::penetration  (GJK, then EPA only when the cores
+//                                           overlap or touch)
+//   contact     -> collision::contact      (SAT + clipping or the curved
+//                                           paths of manifold.hpp; up to 4 points)
+//
+// Outcomes never hold NaN: a value the query does not define (the distance
+// of an intersect query, the normal of overlapping shapes in a distance
+// query, any output of a failed query) is absent (printed as JSON null),
+// and a non-finite library output is dropped with status "non_finite".
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace hedra::tool {
+
+struct ContactPoint {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // world frame
+  double depth = 0.0;                               // > 0 penetrating, < 0 speculative
+};
+
+struct QueryOutcome {
+  QueryType type = QueryType::distance;
+  std::string status = "ok";  // collision::to_string(Status), or "non_finite"
+  bool intersecting = false;
+  std::optional<double> distance;          // signed for penetration and contact
+  std::optional<Eigen::Vector3d> normal;   // unit, world, from A toward B
+  std::optional<Eigen::Vector3d> point_a;  // world
+  std::optional<Eigen::Vector3d> point_b;
+  std::vector<ContactPoint> contacts;
+  double error_bound = 0.0;  // the library's bound on |distance| error (0 for intersect)
+  // Which stages ran (for --stats): GJK always; EPA only in penetration and
+  // contact queries whose cores overlap or touch (epa_ran: EPA expanded at
+  // least once, the most the library's result tells); the manifold only for
+  // contact.
+  int gjk_iterations = 0;
+  int epa_iterations = 0;
+  // Support evaluations of the pair in GJK and EPA (A's and B's count one;
+  // a contact query's SAT lookups on polytopes are not counted).
+  int support_calls = 0;
+  bool epa_ran = false;
+  bool manifold_ran = false;
+  double time_ns = 0.0;  // median over the repetitions, excluding parsing and building
+  bool ok() const { return status == "ok"; }
+};
+
+// Runs query `index` of the built scene `repeat` (>= 1) times, each time
+// from a cold start (no cache), and keeps the last answer and the median time.
+QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat = 1);
+
+// A scene read, checked runnable and built: what every scene command starts
+// from. The Scene lives on the heap so that `built.scene` stays valid when
+// the LoadedScene moves.
+struct LoadedScene {
+  std::unique_ptr<Scene> scene;
+  BuiltScene built;
+};
+
+// load_scene + build_shapes; on failure returns nothing
+// and sets `error` to the message (exit code 2).
+std::optional<LoadedScene> prepare_scene(const std::string& path, std::string& error);
+
+// The shortest text that reads back as exactly `x` ("0.1", "-2.5e-17").
+std::string shortest(double x);
+
+}  // namespace hedra::tool
