@@ -1,4 +1,4 @@
-// `hedra compare` (tools/compare/): the verdict rules of judge() on
+// `hedra compare` (tools/cli/compare/): the verdict rules of judge() on
 // fabricated answers (a hedra result made wrong on purpose must fail the
 // exit code), compare_scene with fabricated peers that crash, hang, cannot
 // pose the question or answer wrongly (each reported, none failing the

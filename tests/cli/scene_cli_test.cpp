@@ -1,5 +1,5 @@
 // End-to-end tests of `hedra query` and `hedra check` on scene files
-// (shared/scene-format.md): every kind of bad input gets exit 2, nothing on
+// (docs/scene-format.md): every kind of bad input gets exit 2, nothing on
 // stdout and a message naming the file and the JSON path (or line and
 // column); the JSON results are well-formed and equal closed forms; --repeat
 // and --stats report what they promise (an intersect query runs no EPA, a

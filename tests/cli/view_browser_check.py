@@ -27,7 +27,7 @@ import tempfile
 import zlib
 
 SKIP = 77
-PANEL_WIDTH = 360  # CSS pixels, see tools/view/viewer.css
+PANEL_WIDTH = 360  # CSS pixels, see tools/cli/view/viewer.css
 BACKGROUND = (0xF3, 0xF4, 0xF6)
 
 

@@ -1,4 +1,4 @@
-// Tests of `hedra view` (tools/view/):
+// Tests of `hedra view` (tools/cli/view/):
 //   * tessellation: every shape's drawn mesh is inscribed in the shape and
 //     tight against it (support values over many directions, within the
 //     tessellation's own error bound), in the pose's frame, margins included;
@@ -6,7 +6,7 @@
 //     cannot break out of the data block, absent values are null;
 //   * the command: `hedra view --hull` writes a page, errors exit 2 and leave
 //     nothing behind;
-//   * in a browser: the --hull page of tools/data/demo_points.xyz and a
+//   * in a browser: the --hull page of tools/cli/data/demo_points.xyz and a
 //     synthetic scene (bodies of every shape kind, queries answered by
 //     hedra::collision) open in headless Chromium without JavaScript errors,
 //     report ready, and draw a viewport that is not blank

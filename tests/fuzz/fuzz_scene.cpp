@@ -1,5 +1,5 @@
-// Fuzz target: the scene parser and runner of the `hedra` tool
-// (tools/scene.cpp, tools/scene_runner.cpp).
+// Fuzz target: the scene parser and runner of the `hedra` tool (the scene
+// library, tools/scene/).
 //
 // The bytes are the scene file's text. Checked: parse_scene never throws
 // and either gives a scene or a message that names the file; a parsed scene

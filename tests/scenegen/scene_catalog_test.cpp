@@ -1,12 +1,13 @@
 // hedra's intersect / distance / penetration / contact on every query of the
-// regression scenes (tools/scenes/scene_catalog.cpp), against the
+// regression scenes (tools/scenegen/scene_catalog.cpp), against the
 // expectations the scene files carry (computed here the same way, from the
 // exact reference), without going through JSON: one test per scene.
+#include "scenegen/scene_catalog.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <map>
-#include "scenegen/scene_catalog.hpp"
 #include <set>
 #include <string>
 #include <vector>

@@ -1,4 +1,4 @@
-// Issue 5's proof inside a real simulator: with hedra as the convex-convex
+// hedra inside a real simulator: with hedra as the convex-convex
 // narrowphase of Bullet's btDiscreteDynamicsWorld (scenes.hpp: 60 Hz, 50
 // solver iterations, friction anchors, Bullet's default sleeping), each scene
 // runs 10 s of simulated time and must end at rest and unbroken:

@@ -1,12 +1,13 @@
-// The `hedra` command-line tool: parses the command line with CLI11 and runs
-// the one subcommand named on it.
+// The `hedra` command-line tool (tools/cli/): parses the command line with
+// CLI11 and runs the one subcommand named on it.
 //
 // Each subcommand lives in its own file and is listed once in kSubcommands
 // below (see command.hpp for the contract). Exit codes follow
-// scene-format.md: 0 success, 1 a check failed, 2 bad input or usage (a
-// message on stderr, nothing on stdout), 3 an internal failure of a library.
-// main() enforces the "nothing on stdout" half: a subcommand's output is
-// buffered and printed only when it did not fail.
+// docs/scene-format.md: 0 success, 1 a check failed, 2 bad input or usage (a
+// message on stderr, nothing on stdout); an internal failure (an exception
+// escaping a subcommand) is 2 as well, with "internal error" on stderr
+// (kExitInternalError). main() enforces the "nothing on stdout" half: a
+// subcommand's output is buffered and printed only when it did not fail.
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <iostream>

@@ -30,7 +30,7 @@
 // random directions, warm = a direction rotating by 3 degrees per call
 // about a slowly turning axis, the previous answer carried as the hint.
 //
-// Run with repetitions and read medians; bench/collision_table.py turns the
+// Run with repetitions and read medians; tools/microbench/collision_table.py turns the
 // --benchmark_format=json output into tables.
 #include <benchmark/benchmark.h>
 

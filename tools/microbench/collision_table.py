@@ -4,7 +4,7 @@
 Usage:
   collision_benchmark --benchmark_repetitions=3 --benchmark_format=json \
       --benchmark_out=collision.json --benchmark_out_format=json
-  python3 bench/collision_table.py collision.json
+  python3 tools/microbench/collision_table.py collision.json
 
 Collision table: family, method, median ns/query over the repetitions,
 ratio to hedra's median on the same family, median and max error against

@@ -20,7 +20,7 @@
 //                     qhull's default-option vertex set, else 0
 // hedra's builder is reused across iterations (and warmed up once), as an
 // application building many hulls would. Run with repetitions and read
-// medians: bench/hull_table.py turns --benchmark_format=json output into a
+// medians: tools/microbench/hull_table.py turns --benchmark_format=json output into a
 // table.
 #include <benchmark/benchmark.h>
 

@@ -2,7 +2,7 @@
 """Markdown table from hull_benchmark's JSON output (standard library only).
 
     build/bin/hull_benchmark --benchmark_format=json > hull.json
-    python3 bench/hull_table.py hull.json            # or: ... | python3 bench/hull_table.py
+    python3 tools/microbench/hull_table.py hull.json   # or: ... | python3 tools/microbench/hull_table.py
 
 One row per point set: points, hedra ms, qhull ms (default options: merged
 facets, comparable to hedra's faces), hedra/qhull ratio, qhull "Qt" ms, and

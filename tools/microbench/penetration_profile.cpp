@@ -1,7 +1,7 @@
 // A repeatable driver for profiling penetration() on `hedra bench`'s pairs.
 //
 //   penetration_cases dump FILE FAMILY...   generate the bench's pairs of
-//       those families (seed 1, tools/bench/workloads.cpp) with their exact
+//       those families (seed 1, tools/cli/bench/workloads.cpp) with their exact
 //       references and write them to FILE (text, %.17g: replayed bit for bit)
 //   penetration_profile run FILE [--family NAME] [--repeat N] [--time]
 //       replay them: N penetration() calls per pair (cold, as the bench

@@ -1,4 +1,5 @@
-// Timing helpers shared by the subcommands that report `time_ns`: the median
+// Timing helpers of the scene runner and the subcommands that report
+// `time_ns` (in the scene library so that it needs nothing of the CLI): the median
 // of repeated measurements, taken with std::chrono::steady_clock (monotonic,
 // so a clock adjustment never yields a negative time).
 #pragma once

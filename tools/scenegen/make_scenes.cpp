@@ -1,7 +1,6 @@
 // Writes the regression scenes (scenes/<family>/*.json, scenes/meshes/*.obj)
-// from tools/scenes/scene_catalog.cpp, with `expect` values from the exact
-// reference, in the format of /work/shared/scene-format.md (README: "Scene
-// files"). JSON goes through nlohmann-json: numbers in its shortest
+// from tools/scenegen/scene_catalog.cpp, with `expect` values from the
+// exact reference, in the format of docs/scene-format.md. JSON goes through nlohmann-json: numbers in its shortest
 // round-trip form, so `hedra check` reads back the very doubles used here.
 //
 // Usage:

@@ -1,4 +1,4 @@
-// The three scenes of issue 5's "proof inside a real simulator", run in
+// The three scenes that put hedra's manifolds inside a real simulator, run in
 // Bullet's btDiscreteDynamicsWorld with either hedra's narrowphase
 // (hedra_collision_algorithm.hpp) or Bullet's own, and measured the same way:
 //

@@ -1,5 +1,5 @@
-// The plotting script of `hedra bench` (tools/bench/plot_bench.py), embedded
-// into the binary at build time by tools/view/embed_text.cmake.
+// The plotting script of `hedra bench` (tools/cli/bench/plot_bench.py),
+// embedded into the binary at build time by tools/cli/embed_text.cmake.
 #pragma once
 
 #include <string_view>

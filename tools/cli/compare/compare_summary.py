@@ -9,7 +9,7 @@ method (hedra, then the peers), each cell "D/N" = disagreed / answered
 "f" for failed calls (error, crash, timeout) and "u" for queries the method
 cannot pose (unsupported), when there are any. Python 3 standard library only.
 
-  python3 tools/compare_summary.py --hedra build/bin/hedra --scenes scenes
+  python3 tools/cli/compare/compare_summary.py --hedra build/bin/hedra --scenes scenes
 """
 import argparse
 import collections
