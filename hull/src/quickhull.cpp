@@ -594,7 +594,7 @@ struct QuickhullBuilder::Impl {
     // stays within eps of the ring. Deciding collinearity on the finished
     // ring rather than while chaining matters: chaining with an eps test
     // dropped a true corner whose x tied with its neighbour's after a
-    // projection basis tilted by 1e-10 rad (found by fuzzing).
+    // projection basis tilted by 1e-10 rad.
     for (std::size_t pass = 0, removed = 1; removed > 0 && ring.size() > 2 && pass <= n; ++pass) {
       removed = 0;
       for (std::size_t i = 0; i < ring.size() && ring.size() > 2;) {
