@@ -130,7 +130,6 @@ struct QuickhullBuilder::Impl {
       ring.push_back(edges[e].origin);
       e = edges[e].next;
     } while (e != face.edge && ring.size() <= edges.size());
-    HEDRA_ASSERT(ring.size() >= 3 && e == face.edge);  // a closed cycle of at least a triangle
     Vec3 c = Vec3::Zero();
     for (Index p : ring) c += pts[p];
     face.centroid = c / static_cast<double>(ring.size());
