@@ -7,8 +7,9 @@
 // spans no volume within eps), then per eye: horizon, cone, merges of faces
 // not clearly convex, orphans reassigned; points merging left outside are put
 // back. Invariants between iterations: a closed 2-manifold, every edge convex
-// within eps, every conflict point more than eps in front of its face, at
-// most n iterations (capped, reported). Each result is checked in O(E); a
+// within eps, a conflict point joins a face only when more than eps in front
+// of it (a merge may tilt the plane later: the eye is checked again), the
+// loop capped and the cap reported. Each result is checked in O(E); a
 // failure retries with eps eightfold larger (up to 1e-6 of the extent), so
 // the answer is a valid hull at a stated tolerance, never a broken one.
 // The step-by-step outline: docs/design.md (hull).
