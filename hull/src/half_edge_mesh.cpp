@@ -159,49 +159,55 @@ bool HalfEdgeMesh::from_polygons(const std::vector<Eigen::Vector3d>& positions,
   return true;
 }
 
-ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
-  ValidationReport r;
-  auto err = [&](const std::string& s) {
-    if (r.errors.size() < 64) r.errors.push_back(s);
-  };
-  const std::size_t V = vertices.size(), H = edges.size(), F = faces.size();
-  for (Index v = 0; v < V; ++v) {
-    if (!vertices[v].position.allFinite()) err("vertex " + std::to_string(v) + " has a non-finite position");
-  }
-  if (H == 0 && F == 0) {
-    // Point or segment hull: vertices only.
-    if (V == 0) err("mesh is empty");
-    if (V > 2) err("mesh has " + std::to_string(V) + " vertices but no faces");
-    if (V == 2 && (vertices[0].position - vertices[1].position).norm() <= tol)
-      err("segment hull has coincident end points");
-    return r;
-  }
-  if (H % 2 != 0) err("odd number of half-edges");
+namespace {
 
-  // Combinatorial invariants, each index range-checked first.
-  bool indices_ok = true;
+// Collects validate()'s messages, at most 64 of them.
+struct Reporter {
+  ValidationReport& r;
+  void operator()(const std::string& s) const {
+    if (r.errors.size() < 64) r.errors.push_back(s);
+  }
+};
+
+// A point or segment hull (no faces): one or two distinct vertices.
+void check_vertices_only(const HalfEdgeMesh& m, double tol, const Reporter& err) {
+  const std::size_t V = m.vertices.size();
+  if (V == 0) err("mesh is empty");
+  if (V > 2) err("mesh has " + std::to_string(V) + " vertices but no faces");
+  if (V == 2 && (m.vertices[0].position - m.vertices[1].position).norm() <= tol)
+    err("segment hull has coincident end points");
+}
+
+// Every stored index in range, so that the later checks can follow links.
+bool indices_in_range(const HalfEdgeMesh& m, const Reporter& err) {
+  const std::size_t V = m.vertices.size(), H = m.edges.size(), F = m.faces.size();
+  bool ok = true;
   for (Index e = 0; e < H; ++e) {
-    const HalfEdge& h = edges[e];
+    const HalfEdge& h = m.edges[e];
     if (h.origin >= V || h.twin >= H || h.next >= H || h.prev >= H || h.face >= F) {
       err("half-edge " + std::to_string(e) + " has an index out of range");
-      indices_ok = false;
+      ok = false;
     }
   }
   for (Index f = 0; f < F; ++f) {
-    if (faces[f].edge >= H) {
+    if (m.faces[f].edge >= H) {
       err("face " + std::to_string(f) + " has an edge index out of range");
-      indices_ok = false;
+      ok = false;
     }
   }
   for (Index v = 0; v < V; ++v) {
-    if (vertices[v].edge >= H) {
+    if (m.vertices[v].edge >= H) {
       err("vertex " + std::to_string(v) + " has no valid outgoing half-edge");
-      indices_ok = false;
+      ok = false;
     }
   }
-  if (!indices_ok) return r;
+  return ok;
+}
 
-  for (Index e = 0; e < H; ++e) {
+// The local link invariants of each half-edge (twin, next/prev, face, origin).
+void check_links(const HalfEdgeMesh& m, const Reporter& err) {
+  const auto& edges = m.edges;
+  for (Index e = 0; e < edges.size(); ++e) {
     const HalfEdge& h = edges[e];
     // Names are built only when an error is reported (this loop is hot).
     const auto name = [e] { return "half-edge " + std::to_string(e); };
@@ -213,17 +219,19 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
     if (edges[h.next].origin != edges[h.twin].origin) err(name() + ": origin(next(e)) != destination(e)");
     if (h.origin == edges[h.twin].origin) err(name() + " starts and ends at the same vertex");
   }
-  if (!r.ok()) return r;
+}
 
+// Each face's cycle has >= 3 edges, and the cycles cover every half-edge
+// exactly once; vertex.edge leaves its vertex.
+void check_face_cycles(const HalfEdgeMesh& m, const Reporter& err) {
+  const std::size_t V = m.vertices.size(), H = m.edges.size(), F = m.faces.size();
   for (Index v = 0; v < V; ++v) {
-    if (edges[vertices[v].edge].origin != v) err("vertex " + std::to_string(v) + ": origin(vertex.edge) != vertex");
+    if (m.edges[m.vertices[v].edge].origin != v) err("vertex " + std::to_string(v) + ": origin(vertex.edge) != vertex");
   }
-  // Face cycles: each face's cycle has >= 3 edges, and the cycles cover every
-  // half-edge exactly once.
   std::vector<Index> seen_face(H, kInvalidIndex);
   for (Index f = 0; f < F; ++f) {
-    if (edges[faces[f].edge].face != f) err("face " + std::to_string(f) + ": face(face.edge) != face");
-    Index e = faces[f].edge;
+    if (m.edges[m.faces[f].edge].face != f) err("face " + std::to_string(f) + ": face(face.edge) != face");
+    Index e = m.faces[f].edge;
     std::size_t n = 0;
     do {
       if (seen_face[e] != kInvalidIndex) {
@@ -231,118 +239,156 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
         break;
       }
       seen_face[e] = f;
-      e = edges[e].next;
+      e = m.edges[e].next;
       ++n;
-    } while (e != faces[f].edge && n <= H);
+    } while (e != m.faces[f].edge && n <= H);
     if (n < 3) err("face " + std::to_string(f) + " has fewer than 3 edges");
   }
   for (Index e = 0; e < H; ++e) {
     if (seen_face[e] == kInvalidIndex) err("half-edge " + std::to_string(e) + " is in no face's cycle");
   }
-  // Vertex rings: the rotation cycle from vertex.edge reaches every outgoing
-  // half-edge of the vertex (a single fan: the surface is a manifold there).
+}
+
+// Vertex rings: the rotation cycle from vertex.edge reaches every outgoing
+// half-edge of the vertex (a single fan: the surface is a manifold there).
+void check_vertex_rings(const HalfEdgeMesh& m, const Reporter& err) {
+  const std::size_t V = m.vertices.size(), H = m.edges.size();
   std::vector<std::size_t> outgoing(V, 0);
-  for (Index e = 0; e < H; ++e) ++outgoing[edges[e].origin];
+  for (Index e = 0; e < H; ++e) ++outgoing[m.edges[e].origin];
   for (Index v = 0; v < V; ++v) {
     if (outgoing[v] == 0) {
       err("vertex " + std::to_string(v) + " has no edges");
       continue;
     }
-    Index e = vertices[v].edge;
+    Index e = m.vertices[v].edge;
     std::size_t n = 0;
     do {
-      e = rotate_ccw(e);
+      e = m.rotate_ccw(e);
       ++n;
-    } while (e != vertices[v].edge && n <= H && edges[e].origin == v);
-    if (edges[e].origin != v || n != outgoing[v])
+    } while (e != m.vertices[v].edge && n <= H && m.edges[e].origin == v);
+    if (m.edges[e].origin != v || n != outgoing[v])
       err("vertex " + std::to_string(v) + " is not a manifold vertex (its ring has " + std::to_string(n) + " of " +
           std::to_string(outgoing[v]) + " edges)");
   }
-  if (!r.ok()) return r;
+}
 
-  const long long euler = static_cast<long long>(V) - static_cast<long long>(H / 2) + static_cast<long long>(F);
-  if (euler != 2) err("Euler characteristic V - E + F = " + std::to_string(euler) + ", expected 2");
-
-  // Geometry: planar, convex faces; every vertex behind every plane.
-  for (Index f = 0; f < F; ++f) {
-    const Plane& pl = faces[f].plane;
-    const auto name = [f] { return "face " + std::to_string(f); };
-    if (!pl.normal.allFinite() || std::abs(pl.normal.norm() - 1.0) > 1e3 * std::numeric_limits<double>::epsilon()) {
-      err(name() + " has a plane normal that is not unit length");
-      continue;
-    }
-    // Winding agrees with the normal: Newell's vector points along it.
-    const Eigen::Vector3d c = face_centroid(f);
-    Eigen::Vector3d newell = Eigen::Vector3d::Zero();
-    double turning = 0;
-    for (Index e : face_edges(f)) {
-      const Eigen::Vector3d a = position(origin(e)), b = position(destination(e));
-      newell += (a - c).cross(b - c);
-      if (std::abs(pl.signed_distance(a)) > tol)
-        err(name() + ": vertex " + std::to_string(origin(e)) + " is " + std::to_string(pl.signed_distance(a)) +
-            " off the face plane");
-      // Local convexity: the vertex after the next one lies inside the side
-      // plane of e (the plane through e containing the face normal).
-      const Eigen::Vector3d d = b - a;
-      const Eigen::Vector3d dn = position(destination(next(e))) - b;
-      const double dl = d.norm(), dnl = dn.norm();
-      if (dl > 0 && dnl > 0) {
-        const Eigen::Vector3d side = d.cross(pl.normal) / dl;  // outward in the face plane
-        if (side.dot(dn) > tol)
-          err(name() + " is not convex at vertex " + std::to_string(destination(e)) + " (turns outward by " +
-              std::to_string(side.dot(dn)) + ")");
-        turning += std::atan2(d.cross(dn).dot(pl.normal), d.dot(dn));
-      }
-    }
-    if (newell.dot(pl.normal) <= 0) err(name() + " is wound against its plane normal");
-    // A convex polygon turns exactly once; a star-shaped one more often. The
-    // total is a whole number of turns up to rounding, and on faces whose
-    // edges are a few tolerances long (a cut just past a vertex) that rounding
-    // reaches 1e-5, so half a turn is the threshold that separates the two.
-    if (std::abs(turning - 2 * M_PI) > M_PI) err(name() + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
-    // Local convexity: the vertices next to each edge in the neighbouring
-    // face are behind this face's plane.
-    for (Index e : face_edges(f)) {
-      const Index t = twin(e);
-      for (Index w : {destination(next(t)), origin(prev(t))}) {
-        const double s = pl.signed_distance(position(w));
-        if (s > tol)
-          err("edge " + std::to_string(origin(e)) + "-" + std::to_string(destination(e)) + " is concave: vertex " +
-              std::to_string(w) + " is " + std::to_string(s) + " in front of " + name());
-      }
+// Face f is planar within tol, wound along its normal, convex at each vertex
+// (turning once), and the vertices next to each of its edges in the
+// neighbouring faces are behind its plane.
+void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Reporter& err) {
+  const Plane& pl = m.faces[f].plane;
+  const auto name = [f] { return "face " + std::to_string(f); };
+  if (!pl.normal.allFinite() || std::abs(pl.normal.norm() - 1.0) > 1e3 * std::numeric_limits<double>::epsilon()) {
+    err(name() + " has a plane normal that is not unit length");
+    return;
+  }
+  // Winding agrees with the normal: Newell's vector points along it.
+  const Eigen::Vector3d c = m.face_centroid(f);
+  Eigen::Vector3d newell = Eigen::Vector3d::Zero();
+  double turning = 0;
+  for (Index e : m.face_edges(f)) {
+    const Eigen::Vector3d a = m.position(m.origin(e)), b = m.position(m.destination(e));
+    newell += (a - c).cross(b - c);
+    if (std::abs(pl.signed_distance(a)) > tol)
+      err(name() + ": vertex " + std::to_string(m.origin(e)) + " is " + std::to_string(pl.signed_distance(a)) +
+          " off the face plane");
+    // Local convexity: the vertex after the next one lies inside the side
+    // plane of e (the plane through e containing the face normal).
+    const Eigen::Vector3d d = b - a;
+    const Eigen::Vector3d dn = m.position(m.destination(m.next(e))) - b;
+    const double dl = d.norm(), dnl = dn.norm();
+    if (dl > 0 && dnl > 0) {
+      const Eigen::Vector3d side = d.cross(pl.normal) / dl;  // outward in the face plane
+      if (side.dot(dn) > tol)
+        err(name() + " is not convex at vertex " + std::to_string(m.destination(e)) + " (turns outward by " +
+            std::to_string(side.dot(dn)) + ")");
+      turning += std::atan2(d.cross(dn).dot(pl.normal), d.dot(dn));
     }
   }
-  if (!exhaustive || !r.ok()) return r;
+  if (newell.dot(pl.normal) <= 0) err(name() + " is wound against its plane normal");
+  // A convex polygon turns exactly once; a star-shaped one more often. The
+  // total is a whole number of turns up to rounding, and on faces whose
+  // edges are a few tolerances long (a cut just past a vertex) that rounding
+  // reaches 1e-5, so half a turn is the threshold that separates the two.
+  if (std::abs(turning - 2 * M_PI) > M_PI) err(name() + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
+  // Convex edges: the vertices next to each edge in the neighbouring face
+  // are behind this face's plane.
+  for (Index e : m.face_edges(f)) {
+    const Index t = m.twin(e);
+    for (Index w : {m.destination(m.next(t)), m.origin(m.prev(t))}) {
+      const double s = pl.signed_distance(m.position(w));
+      if (s > tol)
+        err("edge " + std::to_string(m.origin(e)) + "-" + std::to_string(m.destination(e)) + " is concave: vertex " +
+            std::to_string(w) + " is " + std::to_string(s) + " in front of " + name());
+    }
+  }
+}
+
+// Every vertex behind every face plane: all pairs when V * F is moderate,
+// otherwise a hill-climb to each plane's extreme vertex (exact on a convex,
+// locally valid mesh).
+void check_containment(const HalfEdgeMesh& m, double tol, const Reporter& err) {
+  const std::size_t V = m.vertices.size(), F = m.faces.size();
   if (static_cast<double>(V) * static_cast<double>(F) <= 5e7) {
     for (Index f = 0; f < F; ++f) {
-      const Plane& pl = faces[f].plane;
+      const Plane& pl = m.faces[f].plane;
       for (Index v = 0; v < V; ++v) {
-        const double s = pl.signed_distance(vertices[v].position);
+        const double s = pl.signed_distance(m.vertices[v].position);
         if (s > tol) {
           err("vertex " + std::to_string(v) + " is " + std::to_string(s) + " in front of face " + std::to_string(f));
           break;
         }
       }
     }
-  } else {
-    Index v = 0;
-    for (Index f = 0; f < F; ++f) {
-      const Plane& pl = faces[f].plane;
-      double best = pl.normal.dot(position(v));
-      for (std::size_t step = 0; step <= V; ++step) {
-        Index next_v = v;
-        for (Index w : vertex_neighbors(v)) {
-          const double value = pl.normal.dot(position(w));
-          if (value > best) best = value, next_v = w;
-        }
-        if (next_v == v) break;
-        v = next_v;
-      }
-      if (best - pl.offset > tol)
-        err("vertex " + std::to_string(v) + " is " + std::to_string(best - pl.offset) + " in front of face " +
-            std::to_string(f));
-    }
+    return;
   }
+  Index v = 0;
+  for (Index f = 0; f < F; ++f) {
+    const Plane& pl = m.faces[f].plane;
+    double best = pl.normal.dot(m.position(v));
+    for (std::size_t step = 0; step <= V; ++step) {
+      Index next_v = v;
+      for (Index w : m.vertex_neighbors(v)) {
+        const double value = pl.normal.dot(m.position(w));
+        if (value > best) best = value, next_v = w;
+      }
+      if (next_v == v) break;
+      v = next_v;
+    }
+    if (best - pl.offset > tol)
+      err("vertex " + std::to_string(v) + " is " + std::to_string(best - pl.offset) + " in front of face " +
+          std::to_string(f));
+  }
+}
+
+}  // namespace
+
+// The checks run in order, each only when the ones before found the links
+// sound enough to follow: indices, links, cycles and rings, Euler, geometry,
+// containment (exhaustive only).
+ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
+  ValidationReport r;
+  const Reporter err{r};
+  const std::size_t V = vertices.size(), H = edges.size(), F = faces.size();
+  for (Index v = 0; v < V; ++v) {
+    if (!vertices[v].position.allFinite()) err("vertex " + std::to_string(v) + " has a non-finite position");
+  }
+  if (H == 0 && F == 0) {
+    check_vertices_only(*this, tol, err);
+    return r;
+  }
+  if (H % 2 != 0) err("odd number of half-edges");
+  if (!indices_in_range(*this, err)) return r;
+  check_links(*this, err);
+  if (!r.ok()) return r;
+  check_face_cycles(*this, err);
+  check_vertex_rings(*this, err);
+  if (!r.ok()) return r;
+  const long long euler = static_cast<long long>(V) - static_cast<long long>(H / 2) + static_cast<long long>(F);
+  if (euler != 2) err("Euler characteristic V - E + F = " + std::to_string(euler) + ", expected 2");
+  for (Index f = 0; f < F; ++f) check_face_geometry(*this, f, tol, err);
+  if (!exhaustive || !r.ok()) return r;
+  check_containment(*this, tol, err);
   return r;
 }
 

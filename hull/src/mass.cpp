@@ -1,30 +1,10 @@
-// Mass properties by the divergence theorem over triangle fans.
-//
-// Derivation. Put the origin at the reference point r. A triangle (a, b, c) of
-// the surface, wound counter-clockwise seen from outside, spans with the
-// origin the tetrahedron T = {A u : u >= 0, u1 + u2 + u3 <= 1}, A = [a b c].
-// Over the unit simplex (Dirichlet integrals, int u1^p u2^q u3^s =
-// p! q! s! / (p + q + s + 3)!):
-//   int 1 = 1/6,   int u_i = 1/24,   int u_i u_j = (1 + delta_ij) / 120.
-// With dV = det(A) du and v = det(A) / 6 = a . (b x c) / 6 (signed):
-//   int_T 1     = v
-//   int_T x     = det(A) A 1 / 24 = v s / 4,                      s = a + b + c
-//   int_T x x^T = det(A) A (Id + 1 1^T) A^T / 120
-//               = v / 20 (a a^T + b b^T + c c^T + s s^T).
-// Summing the signed tetrahedra of all fan triangles gives the integrals over
-// the solid (the divergence theorem: each tetrahedron is the cone of a piece
-// of the boundary, and on a closed surface the cones outside cancel). Then
-//   V = sum v,   g = (sum v s / 4) / V   (centroid - r),
-//   C = sum v / 20 (...) - V g g^T       (second moment about the centroid),
-//   I = density (trace(C) Id - C).
-// Accuracy: with r the vertex average (inside a convex solid), the relative
-// coordinates p - r are computed exactly for nearby p (Sterbenz), so the sums
-// see the mesh's own size, not its distance from the origin; and C is shifted
-// by the small g only. Computing about the world origin instead would cancel
-// terms of size |r|^2 V and lose everything at an offset of 1e6.
-//
-// Surface area: half the norm of each face's fan cross-product sum (Newell),
-// which is exact for planar polygons and needs no plane.
+// Mass properties by the divergence theorem over triangle fans: each fan
+// triangle (a, b, c) spans with the reference point r (the vertex average)
+// a signed tetrahedron of volume v = a . (b x c) / 6, first moment v s / 4
+// (s = a + b + c) and second moment v / 20 (a a^T + b b^T + c c^T + s s^T);
+// the sums over a closed surface are the solid's. Working relative to r keeps
+// an offset of 1e6 from costing accuracy. Surface area is half the norm of
+// each face's Newell sum. The derivation: docs/design.md (hull).
 #include <algorithm>
 #include <cmath>
 #include <hedra/hull/mass.hpp>

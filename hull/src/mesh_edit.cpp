@@ -3,23 +3,13 @@
 // split_edge / split_face rewire a constant number of links and append the
 // new elements, so every existing index stays valid.
 //
-// cut_by_plane never edits the input in place: it decides everything first
-// (vertex classes, crossing points, the kept polygons, the border loop) into
-// scratch arrays, builds the result into a fresh mesh, and swaps it in only
-// when the border was one simple loop (or, for a flat mesh, pairs of opposite
-// half-edges). Invariants of the result and why they hold:
-//   * twin pairs: a kept polygon's edge that is a piece of an input half-edge
-//     h is twinned with the piece of twin(h); the faces of both h and twin(h)
-//     keep that piece whenever both faces are kept (a new crossing vertex is
-//     shared through the undirected edge it lies on);
-//   * next/prev/face: each kept polygon becomes one cycle; the cap's cycle is
-//     the reversed border loop;
-//   * manifold vertices: the border loop visits each vertex at most once
-//     (checked), so the kept faces round each border vertex form one fan that
-//     the cap closes;
-//   * geometry: crossing vertices lie on their input edge (t strictly inside
-//     (0, 1)), so kept faces stay planar and convex; all kept vertices are
-//     within tolerance behind the cutting plane, the cap's plane.
+// cut_by_plane never edits the input in place: PlaneCut decides everything
+// first (vertex classes, crossing points, kept polygons, the border loop) into
+// scratch arrays, builds the result into a fresh mesh, and cut_by_plane swaps
+// it in only when the border was one simple loop (or, for a flat mesh, pairs
+// of opposite half-edges). Why the result's links, manifold vertices and
+// geometry hold: docs/design.md (hull). Debug builds assert the links after
+// every edit whose input links agreed.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -67,6 +57,35 @@ enum class Side : unsigned char { behind, on, front };
 
 Side classify(double d, double tol) { return d > tol ? Side::front : (d < -tol ? Side::behind : Side::on); }
 
+// The link invariants of half_edge_mesh.hpp at half-edge e, range-checked:
+// what every edit must keep. Debug builds check them where an edit rewired.
+[[maybe_unused]] bool links_agree(const HalfEdgeMesh& m, Index e) {
+  const std::size_t H = m.edges.size();
+  if (e >= H) return false;
+  const HalfEdge& h = m.edges[e];
+  if (h.twin >= H || h.next >= H || h.prev >= H || h.twin == e) return false;
+  return m.edges[h.twin].twin == e && m.edges[h.prev].next == e && m.edges[h.next].prev == e &&
+         m.edges[h.next].face == h.face && m.edges[h.next].origin == m.edges[h.twin].origin;
+}
+
+[[maybe_unused]] bool all_links_agree(const HalfEdgeMesh& m) {
+  for (Index e = 0; e < m.edges.size(); ++e)
+    if (!links_agree(m, e)) return false;
+  return true;
+}
+
+// links_agree on every half-edge of face f's cycle, each naming f.
+[[maybe_unused]] bool face_links_agree(const HalfEdgeMesh& m, Index f) {
+  const Index start = m.faces[f].edge;
+  Index e = start;
+  std::size_t n = 0;
+  do {
+    if (!links_agree(m, e) || m.edges[e].face != f) return false;
+    e = m.edges[e].next;
+  } while (e != start && ++n <= m.edges.size());
+  return e == start;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -81,6 +100,10 @@ Index split_edge(HalfEdgeMesh& mesh, Index e, const Eigen::Vector3d& point) {
   const Index t2 = e2 + 1;                                 // m -> a, in face(t)
   const Index e_next = mesh.edges[e].next;
   const Index t_next = mesh.edges[t].next;
+#if HEDRA_ASSERTS_ENABLED
+  const bool consistent =
+      links_agree(mesh, e) && links_agree(mesh, t) && links_agree(mesh, e_next) && links_agree(mesh, t_next);
+#endif
 
   HalfEdge he2;
   he2.origin = m;
@@ -106,6 +129,9 @@ Index split_edge(HalfEdgeMesh& mesh, Index e, const Eigen::Vector3d& point) {
   mesh.edges[t].twin = e2;
   mesh.edges[e_next].prev = e2;
   mesh.edges[t_next].prev = t2;
+  // Links that agreed around the edge still agree, new half-edges included.
+  HEDRA_ASSERT(!consistent || (links_agree(mesh, e) && links_agree(mesh, t) && links_agree(mesh, e2) &&
+                               links_agree(mesh, t2) && links_agree(mesh, e_next) && links_agree(mesh, t_next)));
   return m;
 }
 
@@ -150,6 +176,9 @@ Index split_face(HalfEdgeMesh& mesh, Index f, Index v_a, Index v_b) {
   };
   if (!part_has_area(ea, eb) || !part_has_area(eb, ea)) return kInvalidIndex;
 
+#if HEDRA_ASSERTS_ENABLED
+  const bool consistent = face_links_agree(mesh, f);
+#endif
   const Index pb = mesh.edges[eb].prev;       // ends at v_b
   const Index pa_edge = mesh.edges[ea].prev;  // ends at v_a
   const Index g = static_cast<Index>(mesh.faces.size());
@@ -184,6 +213,8 @@ Index split_face(HalfEdgeMesh& mesh, Index f, Index v_a, Index v_b) {
   std::size_t n = 0;
   for (Index h = eb; h != d1 && n <= degree; h = mesh.edges[h].next, ++n) mesh.edges[h].face = g;
   mesh.edges[d1].face = g;
+  // Both parts are closed cycles whose links agree, the diagonal included.
+  HEDRA_ASSERT(!consistent || (face_links_agree(mesh, f) && face_links_agree(mesh, g)));
   return g;
 }
 
@@ -243,217 +274,244 @@ CutResult cut_vertices_only(HalfEdgeMesh& mesh, const Plane& plane, double tol) 
 
 }  // namespace
 
-CutResult cut_by_plane(HalfEdgeMesh& mesh, const Plane& plane_in) {
-  CutResult result;
-  Plane plane;
-  if (!normalized_plane(plane_in, plane)) {
-    result.status = CutStatus::invalid_plane;
-    return result;
-  }
+namespace {
+
+// invalid_mesh when the mesh cannot be cut as it stands (empty, inconsistent
+// counts, non-finite positions, links out of range), unchanged otherwise.
+CutStatus check_cut_input(const HalfEdgeMesh& mesh) {
   const std::size_t V = mesh.vertices.size(), H = mesh.edges.size(), F = mesh.faces.size();
-  result.status = CutStatus::invalid_mesh;
-  if (V == 0 || H % 2 != 0 || (H == 0) != (F == 0)) return result;
-  if (V >= kInvalidIndex || H >= kInvalidIndex / 2) return result;
+  if (V == 0 || H % 2 != 0 || (H == 0) != (F == 0)) return CutStatus::invalid_mesh;
+  if (V >= kInvalidIndex || H >= kInvalidIndex / 2) return CutStatus::invalid_mesh;
   for (const auto& v : mesh.vertices)
-    if (!v.position.allFinite()) return result;
-  const double tol = mesh_tolerance(mesh);
-  result.status = CutStatus::unchanged;
+    if (!v.position.allFinite()) return CutStatus::invalid_mesh;
+  if (H == 0 && V > 2) return CutStatus::invalid_mesh;
+  for (const auto& h : mesh.edges)
+    if (h.origin >= V || h.twin >= H || h.next >= H || h.prev >= H || h.face >= F) return CutStatus::invalid_mesh;
+  return CutStatus::unchanged;
+}
 
-  if (H == 0) {
-    if (V > 2) {
-      result.status = CutStatus::invalid_mesh;
-      return result;
-    }
-    return cut_vertices_only(mesh, plane, tol);
-  }
-  for (const auto& h : mesh.edges) {
-    if (h.origin >= V || h.twin >= H || h.next >= H || h.prev >= H || h.face >= F) {
-      result.status = CutStatus::invalid_mesh;
-      return result;
-    }
-  }
-
-  // 1. Classify the vertices.
-  std::vector<double> dist(V);
-  std::vector<Side> side(V);
-  bool any_front = false, any_behind = false;
-  for (Index v = 0; v < V; ++v) {
-    dist[v] = plane.signed_distance(mesh.vertices[v].position);
-    if (!std::isfinite(dist[v])) {  // coordinates near the overflow limit
-      result.status = CutStatus::invalid_mesh;
-      return result;
-    }
-    side[v] = classify(dist[v], tol);
-    any_front |= side[v] == Side::front;
-    any_behind |= side[v] == Side::behind;
-  }
-  if (!any_front) return result;  // unchanged
-  if (!any_behind) {
-    // Nothing with thickness is behind the plane (at most a face, edge or
-    // vertex lying in it).
-    result.status = CutStatus::emptied;
-    result.removed_vertices = V;
-    mesh.vertices.clear();
-    mesh.edges.clear();
-    mesh.faces.clear();
-    return result;
-  }
-
-  // 2. One new vertex per undirected edge from strictly behind to strictly in
-  //    front. Vertex references in the kept polygons: an input vertex v is
-  //    encoded as v, the crossing on edge h as V + crossing index.
-  std::vector<Index> crossing_of(H, kInvalidIndex);
-  std::vector<Eigen::Vector3d> crossings;
-  for (Index h = 0; h < H; ++h) {
-    const Index a = mesh.edges[h].origin, b = mesh.edges[mesh.edges[h].twin].origin;
-    if (h > mesh.edges[h].twin) continue;  // once per undirected edge
-    const bool cross =
-        (side[a] == Side::behind && side[b] == Side::front) || (side[a] == Side::front && side[b] == Side::behind);
-    if (!cross) continue;
-    const Index bv = side[a] == Side::behind ? a : b, fv = side[a] == Side::behind ? b : a;
-    const Index id = static_cast<Index>(V + crossings.size());
-    crossings.push_back(crossing_point(mesh.position(bv), dist[bv], mesh.position(fv), dist[fv]));
-    if (!crossings.back().allFinite()) {  // f - b overflowed
-      result.status = CutStatus::invalid_mesh;
-      return result;
-    }
-    crossing_of[h] = id;
-    crossing_of[mesh.edges[h].twin] = id;
-  }
-
-  // 3. The kept polygons. Each corner records the vertex reference and the
-  //    input half-edge its outgoing edge is a piece of (kInvalidIndex for a
-  //    chord across a removed front run).
+// One cut of a mesh with faces, phase by phase (docs/design.md, hull): the
+// decisions go to scratch arrays and the kept part into `out`; the input is
+// only read.
+struct PlaneCut {
+  // A corner of a kept polygon: its vertex reference (input vertex v as v,
+  // the crossing on an edge as V + crossing index) and the input half-edge
+  // its outgoing edge is a piece of (kInvalidIndex for a chord across a
+  // removed front run).
   struct Corner {
     Index vertex;
     Index source;
   };
+
+  const HalfEdgeMesh& mesh;
+  Plane plane;
+  double tol;
+  std::size_t V, H, F;
+  std::vector<double> dist;
+  std::vector<Side> side;
+  std::vector<Index> crossing_of;  // per input half-edge: its crossing's reference, or kInvalidIndex
+  std::vector<Eigen::Vector3d> crossings;
   std::vector<Corner> corners;
-  corners.reserve(H + crossings.size() * 2);
   std::vector<Index> poly_begin;  // corner range of each kept face
   std::vector<Index> kept_faces;
-  for (Index f = 0; f < F; ++f) {
-    const Index first = static_cast<Index>(corners.size());
-    bool has_behind = false;
-    const Index start = mesh.faces[f].edge;
-    if (start >= H) {
-      result.status = CutStatus::invalid_mesh;
-      return result;
+  std::vector<Index> new_index;  // vertex reference -> vertex of out
+  HalfEdgeMesh out;
+  std::vector<Index> border;  // half-edges of out without a twin yet
+
+#if HEDRA_ASSERTS_ENABLED
+  bool input_links_agree;
+#endif
+
+  PlaneCut(const HalfEdgeMesh& m, const Plane& p, double t)
+      : mesh(m), plane(p), tol(t), V(m.vertices.size()), H(m.edges.size()), F(m.faces.size()) {
+#if HEDRA_ASSERTS_ENABLED
+    input_links_agree = all_links_agree(m);
+#endif
+  }
+
+  Index dest(Index o) const { return out.edges[out.edges[o].next].origin; }
+
+  // 1. Classifies the vertices. Returns unchanged (nothing in front),
+  //    emptied (nothing behind), invalid_mesh (a distance overflowed), or
+  //    cut: go on.
+  CutStatus classify_vertices() {
+    dist.resize(V);
+    side.resize(V);
+    bool any_front = false, any_behind = false;
+    for (Index v = 0; v < V; ++v) {
+      dist[v] = plane.signed_distance(mesh.vertices[v].position);
+      if (!std::isfinite(dist[v])) return CutStatus::invalid_mesh;  // coordinates near the overflow limit
+      side[v] = classify(dist[v], tol);
+      any_front |= side[v] == Side::front;
+      any_behind |= side[v] == Side::behind;
     }
-    Index h = start;
-    std::size_t steps = 0;
-    do {
-      const Index u = mesh.edges[h].origin, w = mesh.edges[mesh.edges[h].twin].origin;
-      const Side su = side[u], sw = side[w];
-      has_behind |= su == Side::behind;
-      if (su != Side::front) {
-        if (sw != Side::front) {
-          corners.push_back({u, h});
-        } else if (su == Side::behind) {
-          corners.push_back({u, h});                           // piece u -> crossing
-          corners.push_back({crossing_of[h], kInvalidIndex});  // chord starts here
-        } else {
-          corners.push_back({u, kInvalidIndex});  // on-plane vertex: chord starts here
-        }
-      } else if (sw == Side::behind) {
-        corners.push_back({crossing_of[h], h});  // piece crossing -> w
+    if (!any_front) return CutStatus::unchanged;
+    // Without a vertex behind, nothing with thickness is behind the plane
+    // (at most a face, edge or vertex lying in it).
+    if (!any_behind) return CutStatus::emptied;
+    return CutStatus::cut;
+  }
+
+  // 2. One new vertex per undirected edge from strictly behind to strictly
+  //    in front; false when one overflows.
+  bool add_crossings() {
+    crossing_of.assign(H, kInvalidIndex);
+    for (Index h = 0; h < H; ++h) {
+      const Index a = mesh.edges[h].origin, b = mesh.edges[mesh.edges[h].twin].origin;
+      if (h > mesh.edges[h].twin) continue;  // once per undirected edge
+      const bool cross =
+          (side[a] == Side::behind && side[b] == Side::front) || (side[a] == Side::front && side[b] == Side::behind);
+      if (!cross) continue;
+      const Index bv = side[a] == Side::behind ? a : b, fv = side[a] == Side::behind ? b : a;
+      const Index id = static_cast<Index>(V + crossings.size());
+      crossings.push_back(crossing_point(mesh.position(bv), dist[bv], mesh.position(fv), dist[fv]));
+      if (!crossings.back().allFinite()) return false;  // f - b overflowed
+      crossing_of[h] = id;
+      crossing_of[mesh.edges[h].twin] = id;
+    }
+    return true;
+  }
+
+  // 3. The kept polygons: a face with a vertex strictly behind keeps its
+  //    behind and on-plane corners, and each front run becomes a chord.
+  //    False when a face's cycle is broken.
+  bool collect_kept_polygons() {
+    corners.reserve(H + crossings.size() * 2);
+    for (Index f = 0; f < F; ++f) {
+      const Index first = static_cast<Index>(corners.size());
+      const Index start = mesh.faces[f].edge;
+      if (start >= H) return false;
+      bool has_behind = false;
+      Index h = start;
+      std::size_t steps = 0;
+      do {
+        has_behind |= side[mesh.edges[h].origin] == Side::behind;
+        add_corners(h);
+        h = mesh.edges[h].next;
+        ++steps;
+      } while (h != start && steps <= H);
+      if (h != start) return false;
+      if (has_behind) {
+        // A face of >= 3 edges with a vertex behind keeps >= 3 corners
+        // (asserted when the input's links agree: bad input is not a bug).
+        HEDRA_ASSERT(corners.size() - first >= 3 || !input_links_agree);
+        poly_begin.push_back(first);
+        kept_faces.push_back(f);
+      } else {
+        corners.resize(first);
       }
-      h = mesh.edges[h].next;
-      ++steps;
-    } while (h != start && steps <= H);
-    if (h != start) {
-      result.status = CutStatus::invalid_mesh;
-      return result;
     }
-    if (has_behind) {
-      HEDRA_ASSERT(corners.size() - first >= 3);
-      poly_begin.push_back(first);
-      kept_faces.push_back(f);
-    } else {
-      corners.resize(first);
+    poly_begin.push_back(static_cast<Index>(corners.size()));
+    return true;
+  }
+
+  // The corners that input half-edge h = u -> w contributes to its face's
+  // kept polygon.
+  void add_corners(Index h) {
+    const Index u = mesh.edges[h].origin, w = mesh.edges[mesh.edges[h].twin].origin;
+    const Side su = side[u], sw = side[w];
+    if (su != Side::front) {
+      if (sw != Side::front) {
+        corners.push_back({u, h});
+      } else if (su == Side::behind) {
+        corners.push_back({u, h});                           // piece u -> crossing
+        corners.push_back({crossing_of[h], kInvalidIndex});  // chord starts here
+      } else {
+        corners.push_back({u, kInvalidIndex});  // on-plane vertex: chord starts here
+      }
+    } else if (sw == Side::behind) {
+      corners.push_back({crossing_of[h], h});  // piece crossing -> w
     }
   }
-  poly_begin.push_back(static_cast<Index>(corners.size()));
 
-  // 4. Compact vertex numbering: kept input vertices in their order, then the
-  //    crossings. Only vertices on a kept face survive.
-  const std::size_t refs = V + crossings.size();
-  std::vector<Index> new_index(refs, kInvalidIndex);
-  for (const Corner& c : corners) new_index[c.vertex] = 0;
-  Index next_vertex = 0;
-  for (std::size_t r = 0; r < refs; ++r)
-    if (new_index[r] == 0) new_index[r] = next_vertex++;
+  // 4. Compact vertex numbering: kept input vertices in their order, then
+  //    the crossings. Only vertices on a kept face survive.
+  void number_vertices() {
+    const std::size_t refs = V + crossings.size();
+    new_index.assign(refs, kInvalidIndex);
+    for (const Corner& c : corners) new_index[c.vertex] = 0;
+    Index next_vertex = 0;
+    for (std::size_t r = 0; r < refs; ++r)
+      if (new_index[r] == 0) new_index[r] = next_vertex++;
+    out.set_tolerance(mesh.tolerance());
+    out.vertices.resize(next_vertex);
+    for (std::size_t r = 0; r < refs; ++r) {
+      if (new_index[r] == kInvalidIndex) continue;
+      out.vertices[new_index[r]].position = r < V ? mesh.vertices[r].position : crossings[r - V];
+    }
+  }
 
   // 5. Half-edges of the kept faces; pieces of input half-edges are twinned
   //    through out_of_source, the rest form the border.
-  HalfEdgeMesh out;
-  out.set_tolerance(mesh.tolerance());
-  out.vertices.resize(next_vertex);
-  for (std::size_t r = 0; r < refs; ++r) {
-    if (new_index[r] == kInvalidIndex) continue;
-    out.vertices[new_index[r]].position = r < V ? mesh.vertices[r].position : crossings[r - V];
-  }
-  out.edges.resize(corners.size());
-  out.faces.resize(kept_faces.size());
-  std::vector<Index> out_of_source(H, kInvalidIndex);
-  for (std::size_t k = 0; k < kept_faces.size(); ++k) {
-    const Index b = poly_begin[k], n = poly_begin[k + 1] - b;
-    for (Index i = 0; i < n; ++i) {
-      HalfEdge& he = out.edges[b + i];
-      he.origin = new_index[corners[b + i].vertex];
-      he.next = b + (i + 1) % n;
-      he.prev = b + (i + n - 1) % n;
-      he.face = static_cast<Index>(k);
-      if (corners[b + i].source != kInvalidIndex) out_of_source[corners[b + i].source] = b + i;
+  void build_kept_faces() {
+    out.edges.resize(corners.size());
+    out.faces.resize(kept_faces.size());
+    std::vector<Index> out_of_source(H, kInvalidIndex);
+    for (std::size_t k = 0; k < kept_faces.size(); ++k) {
+      const Index b = poly_begin[k], n = poly_begin[k + 1] - b;
+      for (Index i = 0; i < n; ++i) {
+        HalfEdge& he = out.edges[b + i];
+        he.origin = new_index[corners[b + i].vertex];
+        he.next = b + (i + 1) % n;
+        he.prev = b + (i + n - 1) % n;
+        he.face = static_cast<Index>(k);
+        if (corners[b + i].source != kInvalidIndex) out_of_source[corners[b + i].source] = b + i;
+      }
+      out.faces[k].edge = b;
+      out.faces[k].plane = mesh.faces[kept_faces[k]].plane;
     }
-    out.faces[k].edge = b;
-    out.faces[k].plane = mesh.faces[kept_faces[k]].plane;
+    for (Index o = 0; o < corners.size(); ++o) {
+      const Index src = corners[o].source;
+      const Index t = src == kInvalidIndex ? kInvalidIndex : out_of_source[mesh.edges[src].twin];
+      out.edges[o].twin = t;
+      if (t == kInvalidIndex) border.push_back(o);
+    }
   }
-  std::vector<Index> border;
-  for (Index o = 0; o < corners.size(); ++o) {
-    const Index src = corners[o].source;
-    const Index t = src == kInvalidIndex ? kInvalidIndex : out_of_source[mesh.edges[src].twin];
-    out.edges[o].twin = t;
-    if (t == kInvalidIndex) border.push_back(o);
-  }
-  result.status = CutStatus::topology_failure;
-  if (border.empty()) return result;
-  auto dest = [&](Index o) { return out.edges[out.edges[o].next].origin; };
 
-  // 6. Close the opening. A flat mesh's border half-edges come in opposite
-  //    pairs (the chord across the front side and the one across the back):
-  //    they become twins. Otherwise the border must be one simple loop.
-  std::vector<std::pair<std::uint64_t, Index>> keys;
-  keys.reserve(border.size());
-  auto key = [](Index a, Index b) { return (std::uint64_t(a) << 32) | b; };
-  for (Index o : border) keys.push_back({key(out.edges[o].origin, dest(o)), o});
-  std::sort(keys.begin(), keys.end());
-  std::size_t paired = 0;
-  for (Index o : border) {
-    const std::uint64_t want = key(dest(o), out.edges[o].origin);
-    auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(want, Index(0)));
-    if (it != keys.end() && it->first == want) {
-      out.edges[o].twin = it->second;
-      ++paired;
+  // 6. Closes the opening: a flat mesh's border half-edges come in opposite
+  //    pairs (the chord across the front side and the one across the back)
+  //    and become twins; otherwise the border must be one simple loop,
+  //    capped. Sets cap (kInvalidIndex when flat); false when neither holds.
+  bool close_opening(Index& cap) {
+    cap = kInvalidIndex;
+    if (border.empty()) return false;
+    std::vector<std::pair<std::uint64_t, Index>> keys;
+    keys.reserve(border.size());
+    auto key = [](Index a, Index b) { return (std::uint64_t(a) << 32) | b; };
+    for (Index o : border) keys.push_back({key(out.edges[o].origin, dest(o)), o});
+    std::sort(keys.begin(), keys.end());
+    std::size_t paired = 0;
+    for (Index o : border) {
+      const std::uint64_t want = key(dest(o), out.edges[o].origin);
+      auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(want, Index(0)));
+      if (it != keys.end() && it->first == want) {
+        out.edges[o].twin = it->second;
+        ++paired;
+      }
     }
+    if (paired == border.size()) {
+      for (std::size_t i = 1; i < keys.size(); ++i)
+        if (keys[i].first == keys[i - 1].first) return false;  // an edge used twice one way
+      return true;
+    }
+    if (paired != 0) return false;
+    return add_cap(cap);
   }
-  Index cap = kInvalidIndex;
-  if (paired == border.size()) {
-    for (std::size_t i = 1; i < keys.size(); ++i)
-      if (keys[i].first == keys[i - 1].first) return result;  // an edge used twice one way
-  } else {
-    if (paired != 0) return result;
-    // Border loop: the cap half-edge opposite border o = (a -> b) runs b -> a
-    // and is followed by the cap half-edge leaving a, the one opposite the
-    // border half-edge that ends at a.
+
+  // The cap face: the reversed border loop, in the cutting plane. False when
+  // the border is not one simple closed loop.
+  bool add_cap(Index& cap) {
+    // The cap half-edge opposite border o = (a -> b) runs b -> a and is
+    // followed by the cap half-edge leaving a, the one opposite the border
+    // half-edge that ends at a.
     std::vector<Index> border_into(out.vertices.size(), kInvalidIndex);
     for (Index o : border) {
       Index& slot = border_into[dest(o)];
-      if (slot != kInvalidIndex) return result;  // the loop would pass a vertex twice
+      if (slot != kInvalidIndex) return false;  // the loop would pass a vertex twice
       slot = o;
     }
     const Index n = static_cast<Index>(border.size());
-    if (n < 3) return result;
+    if (n < 3) return false;
     cap = static_cast<Index>(out.faces.size());
     const Index cap_first = static_cast<Index>(out.edges.size());
     std::vector<Index> cap_of_border(out.edges.size(), kInvalidIndex);
@@ -462,7 +520,7 @@ CutResult cut_by_plane(HalfEdgeMesh& mesh, const Plane& plane_in) {
     for (Index i = 0; i < n; ++i) {
       const Index o = border[i];
       const Index into_origin = border_into[out.edges[o].origin];
-      if (into_origin == kInvalidIndex) return result;  // the border is not closed
+      if (into_origin == kInvalidIndex) return false;  // the border is not closed
       HalfEdge& c = out.edges[cap_first + i];
       c.origin = dest(o);
       c.twin = o;
@@ -479,21 +537,61 @@ CutResult cut_by_plane(HalfEdgeMesh& mesh, const Plane& plane_in) {
       c = out.edges[c].next;
       ++steps;
     } while (c != cap_first && steps <= n);
-    if (steps != n) return result;
+    if (steps != n) return false;
     Face cap_face;
     cap_face.edge = cap_first;
     cap_face.plane = plane;
     out.faces.push_back(cap_face);
+    return true;
   }
-  out.rebuild_vertex_links();
+};
+
+}  // namespace
+
+CutResult cut_by_plane(HalfEdgeMesh& mesh, const Plane& plane_in) {
+  CutResult result;
+  Plane plane;
+  if (!normalized_plane(plane_in, plane)) {
+    result.status = CutStatus::invalid_plane;
+    return result;
+  }
+  result.status = check_cut_input(mesh);
+  if (result.status != CutStatus::unchanged) return result;
+  const double tol = mesh_tolerance(mesh);
+  if (mesh.edges.empty()) return cut_vertices_only(mesh, plane, tol);
+
+  PlaneCut cut(mesh, plane, tol);
+  result.status = cut.classify_vertices();
+  if (result.status == CutStatus::emptied) {
+    result.removed_vertices = mesh.vertices.size();
+    mesh.vertices.clear();
+    mesh.edges.clear();
+    mesh.faces.clear();
+    return result;
+  }
+  if (result.status != CutStatus::cut) return result;
+  if (!cut.add_crossings() || !cut.collect_kept_polygons()) {
+    result.status = CutStatus::invalid_mesh;
+    return result;
+  }
+  cut.number_vertices();
+  cut.build_kept_faces();
+  Index cap = kInvalidIndex;
+  if (!cut.close_opening(cap)) {
+    result.status = CutStatus::topology_failure;
+    return result;
+  }
+  cut.out.rebuild_vertex_links();
+  // A consistent input gives consistent links.
+  HEDRA_ASSERT(!cut.input_links_agree || all_links_agree(cut.out));
 
   result.status = CutStatus::cut;
   result.cap_face = cap;
-  result.added_vertices = crossings.size();
-  result.removed_vertices = V - (out.vertices.size() - crossings.size());
-  result.face_source = kept_faces;
+  result.added_vertices = cut.crossings.size();
+  result.removed_vertices = cut.V - (cut.out.vertices.size() - cut.crossings.size());
+  result.face_source = cut.kept_faces;
   if (cap != kInvalidIndex) result.face_source.push_back(kInvalidIndex);
-  mesh = std::move(out);
+  mesh = std::move(cut.out);
   return result;
 }
 

@@ -1,17 +1,10 @@
 // Finding the face a point lies farthest in front of, without scanning every
 // face: used by max_outside_distance() on a finished mesh and by quickhull on
-// its working structure (to catch points that merging left outside).
-//
-// For an interior point c, the ray from c through p leaves the hull through
-// the face maximising
-//   g(f) = n_f . (p - c) / h_f,    h_f = d_f - n_f . c > 0,
-// a linear function of the polar dual's vertex n_f / h_f. The dual is convex,
-// so hill-climbing over face adjacency finds that face. If p is behind it, p
-// is inside (it lies on the segment from c to the exit point). Otherwise the
-// faces that see p form a connected patch around it, walked for the largest
-// distance. Each climb starts from a cube map of directions (k x k cells on
-// each side of a cube around c), so it takes a few steps; points inside the
-// sphere inscribed around c are skipped outright.
+// its working structure (to catch points that merging left outside). For an
+// interior point c, the exit face of the ray c -> p maximises a linear
+// function of the polar dual's vertex, so hill-climbing over face adjacency
+// finds it (derivation: docs/design.md, hull); the faces seeing p around it
+// are then walked for the largest distance.
 //
 // Adapter requirements (A):
 //   std::size_t face_count() const;   bool live(Index f) const;
@@ -69,7 +62,7 @@ class OutsideSearch {
       // The exit face comes from a ratio whose denominator h_f is tiny for
       // the faces of a thin hull (c lies within ~1e-10 of them): rounding can
       // then pick a neighbour of the true exit face, one the ray grazes and p
-      // is behind, while p is outside the true one (found by fuzzing: a
+      // is behind, while p is outside the true one (e.g. a
       // wedge 7e-10 thick, a point 1.3e-8 outside its end face reported as
       // inside). The true exit face is across an edge of the chosen one, so
       // its ring decides.
@@ -82,7 +75,7 @@ class OutsideSearch {
       a_.for_each_neighbor(exit, consider);
       // Where the ray passes within rounding of a vertex, the faces around
       // it tie, and the one chosen may share only that vertex with the face
-      // p is outside of (found by fuzzing: near-duplicates on a ray 1.5e6
+      // p is outside of (e.g. near-duplicates on a ray 1.5e6
       // from the origin, 2.5e-8 outside a face through the outermost one).
       // Missing that face needs the ratios of the two faces to agree within
       // their rounding, which bounds how far p can be behind the chosen one:

@@ -171,7 +171,10 @@ struct QuickhullBuilder::Impl {
     edges[b].twin = a;
   }
 
+  // Every caller has checked that p lies more than eps in front of f (the
+  // plane may tilt later, when f merges: the eye is rechecked then).
   void push_conflict(Index f, Index p) {
+    HEDRA_ASSERT(faces[f].distance(pts[p]) > eps);
     conflict_next[p] = faces[f].conflict;
     faces[f].conflict = p;
   }
@@ -439,8 +442,21 @@ struct QuickhullBuilder::Impl {
     return true;
   }
 
+  // ---- one iteration: cone, merge, orphans --------------------------------
+  // Adds point `eye` to the hull whose visible faces and horizon find_horizon
+  // collected: removes the visible faces, builds the cone, merges it, and
+  // hands the orphaned conflict points to the new faces.
   void add_point(Index eye) {
-    // Remove the visible faces; their conflict points become orphans.
+    remove_visible_faces(eye);
+    build_cone(eye);
+    merge_new_faces();
+    if (collapsed) return;  // the structure is abandoned; see absorb()
+    assign_orphans();
+  }
+
+  // Marks the visible faces deleted; their conflict points (but the eye)
+  // become orphans.
+  void remove_visible_faces(Index eye) {
     orphans.clear();
     for (Index f : visible) {
       faces[f].mark = Mark::deleted;
@@ -451,7 +467,11 @@ struct QuickhullBuilder::Impl {
         p = conflict_next[p];
       }
     }
-    // A cone of triangles from the horizon to the eye.
+  }
+
+  // A cone of triangles (a, b, eye), one per horizon edge a->b, linked to the
+  // faces beyond the horizon and to each other around the eye.
+  void build_cone(Index eye) {
     new_faces.clear();
     Index first_side = kInvalidIndex, prev_side = kInvalidIndex;
     for (Index h : horizon) {
@@ -466,11 +486,24 @@ struct QuickhullBuilder::Impl {
       new_faces.push_back(f);
     }
     link_twins(prev_side, first_side);
-    merge_new_faces();
-    if (collapsed) return;  // the structure is abandoned; see absorb()
-    // Hand the orphans to the new faces (the farthest one in front, stopping
-    // early when one is clearly in front); the rest are inside. The live new
-    // faces' planes are packed together first: this loop is the hot one.
+#if HEDRA_ASSERTS_ENABLED
+    // The horizon is one closed loop, so each side edge meets its twin
+    // running the other way: the cone's links agree around the eye.
+    for (Index f : new_faces) {
+      Index e = faces[f].edge;
+      for (int k = 0; k < 3; ++k, e = edges[e].next) {
+        HEDRA_ASSERT(edges[edges[e].twin].twin == e);
+        HEDRA_ASSERT(edges[edges[e].next].prev == e);
+        HEDRA_ASSERT(edges[edges[e].next].origin == edges[edges[e].twin].origin);
+      }
+    }
+#endif
+  }
+
+  // Hands each orphan to the new face it is farthest in front of (stopping
+  // early when one is clearly in front); the rest are inside. The live new
+  // faces' planes are packed together first: this loop is the hot one.
+  void assign_orphans() {
     cone.clear();
     for (Index f : new_faces)
       if (faces[f].mark == Mark::alive) cone.push_back({faces[f].normal, faces[f].offset, f});
@@ -560,7 +593,7 @@ struct QuickhullBuilder::Impl {
     // stays within eps of the ring. Deciding collinearity on the finished
     // ring rather than while chaining matters: chaining with an eps test
     // dropped a true corner whose x tied with its neighbour's after a
-    // projection basis tilted by 1e-10 rad (found by fuzzing).
+    // projection basis tilted by 1e-10 rad.
     for (std::size_t pass = 0, removed = 1; removed > 0 && ring.size() > 2 && pass <= n; ++pass) {
       removed = 0;
       for (std::size_t i = 0; i < ring.size() && ring.size() > 2;) {
@@ -752,6 +785,242 @@ struct QuickhullBuilder::Impl {
     return true;
   }
 
+  // ---- initial simplex ----------------------------------------------------
+  struct Simplex {
+    Index i0, i1, i2, i3;
+    Vec3 normal;  // of the triangle (i0, i1, i2), unit
+  };
+
+  // Picks the initial simplex from the extreme points (step 3 of the outline
+  // in quickhull.hpp). Returns false after writing the hull into r when the
+  // input is degenerate at this tolerance: a point, a segment or a polygon.
+  bool find_simplex(const Eigen::Vector3d* input, std::size_t n, double mesh_tolerance, Simplex& s,
+                    QuickhullResult& r) {
+    Index i0 = extreme[0], i1 = extreme[1];
+    double best = -1;
+    for (int a = 0; a < 6; ++a)
+      for (int b = a + 1; b < 6; ++b) {
+        const double d = (pts[extreme[a]] - pts[extreme[b]]).squaredNorm();
+        if (d > best) best = d, i0 = extreme[a], i1 = extreme[b];
+      }
+    // A point when the widest pair is within the output's tolerance, not only
+    // within eps: the validator (and any user of mesh.tolerance()) would see
+    // a shorter segment as two coincident end points (two points 2 ulps apart
+    // at x = 1.5).
+    if (std::sqrt(best) <= std::max(eps, mesh_tolerance)) {
+      finish_point(0, input, r);
+      return false;
+    }
+    // Segment ends: the extremes along the direction i0 -> i1.
+    const Vec3 dir = (pts[i1] - pts[i0]).normalized();
+    {
+      double dmin = pts[i0].dot(dir), dmax = pts[i1].dot(dir);
+      for (Index i = 0; i < n; ++i) {
+        const double d = pts[i].dot(dir);
+        if (d < dmin) dmin = d, i0 = i;
+        if (d > dmax) dmax = d, i1 = i;
+      }
+    }
+    const Vec3 dir2 = (pts[i1] - pts[i0]).normalized();
+    Index i2 = i0;
+    best = -1;
+    for (Index i = 0; i < n; ++i) {
+      const double d = (pts[i] - pts[i0]).cross(dir2).squaredNorm();
+      if (d > best) best = d, i2 = i;
+    }
+    if (std::sqrt(best) <= eps) {
+      finish_segment(i0, i1, input, r);
+      return false;
+    }
+    const Vec3 normal = triangle_normal(pts[i0], pts[i1], pts[i2]).normalized();
+    Index i3 = i0;
+    best = -1;
+    for (Index i = 0; i < n; ++i) {
+      const double d = std::abs(normal.dot(pts[i] - pts[i0]));
+      if (d > best) best = d, i3 = i;
+    }
+    if (best <= eps) {
+      const Vec3 u = dir2, v = normal.cross(u);
+      finish_polygon(u, v, n, input, r);
+      if (r.dimension != 2) finish_segment(i0, i1, input, r);
+      return false;
+    }
+    s = {i0, i1, i2, i3, normal};
+    return true;
+  }
+
+  // Resets the working structure to the tetrahedron of s, faces wound
+  // outward.
+  void add_tetrahedron(Simplex s, std::size_t n) {
+    edges.clear();
+    faces.clear();
+    collapsed = false;
+    conflict_next.assign(n, kInvalidIndex);
+    point_stamp.assign(n, 0);
+    stamp = 0;
+    if (s.normal.dot(pts[s.i3] - pts[s.i0]) > 0) std::swap(s.i1, s.i2);  // base must face away from i3
+    const Index f0 = add_triangle(s.i0, s.i1, s.i2);
+    const Index f1 = add_triangle(s.i0, s.i3, s.i1);
+    const Index f2 = add_triangle(s.i1, s.i3, s.i2);
+    const Index f3 = add_triangle(s.i2, s.i3, s.i0);
+    auto e = [&](Index f, int k) {
+      Index h = faces[f].edge;
+      for (int j = 0; j < k; ++j) h = edges[h].next;
+      return h;
+    };
+    // f0: i0->i1, i1->i2, i2->i0; f1: i0->i3, i3->i1, i1->i0;
+    // f2: i1->i3, i3->i2, i2->i1; f3: i2->i3, i3->i0, i0->i2.
+    link_twins(e(f0, 0), e(f1, 2));
+    link_twins(e(f0, 1), e(f2, 2));
+    link_twins(e(f0, 2), e(f3, 2));
+    link_twins(e(f1, 0), e(f3, 1));
+    link_twins(e(f1, 1), e(f2, 0));
+    link_twins(e(f2, 1), e(f3, 0));
+    for (Index f = 0; f < 4; ++f) update_face(f);
+  }
+
+  // Step 4 for the simplex: each point goes to the face it is farthest in
+  // front of, if any.
+  void assign_initial_conflicts(const Simplex& s, std::size_t n) {
+    for (Index i = 0; i < n; ++i) {
+      if (i == s.i0 || i == s.i1 || i == s.i2 || i == s.i3) continue;
+      Index best_face = kInvalidIndex;
+      double best_distance = eps;
+      for (Index f = 0; f < 4; ++f) {
+        const double d = faces[f].distance(pts[i]);
+        if (d > best_distance) best_distance = d, best_face = f;
+      }
+      if (best_face != kInvalidIndex) push_conflict(best_face, i);
+    }
+  }
+
+  // ---- main loop ----------------------------------------------------------
+  // Drains the conflict lists, then checks every non-vertex point against the
+  // final hull: merging tilts planes, so a point dropped as inside (within
+  // eps of the faces it was tested against) can end up farther out. The ones
+  // outside by more than 6 eps go back to conflict lists for another round; a
+  // few rounds settle it, otherwise the attempt fails and the retry uses a
+  // larger eps. The cap counts every point added, over all rounds.
+  void expand(std::size_t n, const QuickhullOptions& options, QuickhullResult& r) {
+    const std::size_t cap = options.max_iterations > 0 ? options.max_iterations : 4 * n + 4;
+    constexpr int kRounds = 4;
+    for (int round = 0;; ++round) {
+      drain_conflicts(cap, r);
+      if (collapsed || r.status != QuickhullStatus::ok) break;
+      const std::size_t outside = reinsert_outside_points(n);
+      if (outside == 0) break;
+      if (round + 1 == kRounds) {
+        collapsed = true;
+        r.error = std::to_string(outside) + " points still outside after " + std::to_string(kRounds) + " rounds";
+        break;
+      }
+    }
+  }
+
+  // Step 5 over the faces in creation order until no conflict point is left,
+  // the attempt is abandoned (collapsed) or the cap is reached.
+  void drain_conflicts(std::size_t cap, QuickhullResult& r) {
+    for (Index cursor = 0; cursor < faces.size() && !collapsed;) {
+      if (faces[cursor].mark != Mark::alive || faces[cursor].conflict == kInvalidIndex) {
+        ++cursor;
+        continue;
+      }
+      if (r.iterations >= cap) {
+        r.status = QuickhullStatus::iteration_limit;
+        r.error = "iteration cap of " + std::to_string(cap) + " reached";
+        break;
+      }
+      double eye_distance = 0;
+      const Index eye = pop_eye(cursor, eye_distance);
+      ++r.iterations;
+      if (eye_distance <= eps) continue;  // the face moved in a merge; the point is on the hull now
+      if (near_vertex_of(cursor, eye)) continue;
+      add_eye(eye, cursor);
+    }
+  }
+
+  // Unlinks the farthest conflict point of face f (the eye) and returns it,
+  // with its distance in front of f.
+  Index pop_eye(Index f, double& eye_distance) {
+    WorkFace& face = faces[f];
+    Index eye = kInvalidIndex, eye_prev = kInvalidIndex, prev = kInvalidIndex;
+    eye_distance = -std::numeric_limits<double>::infinity();
+    for (Index p = face.conflict; p != kInvalidIndex; prev = p, p = conflict_next[p]) {
+      const double d = face.distance(pts[p]);
+      if (d > eye_distance) eye_distance = d, eye = p, eye_prev = prev;
+    }
+    if (eye_prev == kInvalidIndex)
+      face.conflict = conflict_next[eye];
+    else
+      conflict_next[eye_prev] = conflict_next[eye];
+    return eye;
+  }
+
+  // A (near-)duplicate of a vertex of its face lies just above the faces
+  // around that vertex: it is on the hull already.
+  bool near_vertex_of(Index f, Index eye) const {
+    const WorkFace& face = faces[f];
+    bool duplicate = false;
+    Index e = face.edge;
+    std::size_t guard = 0;
+    do {
+      duplicate = (pts[edges[e].origin] - pts[eye]).squaredNorm() <= eps * eps;
+      e = edges[e].next;
+    } while (!duplicate && e != face.edge && ++guard <= edges.size());
+    return duplicate;
+  }
+
+  // One iteration for the eye seen by face f: horizon, cone, merge, orphans,
+  // then the cheap check of what it touched. Sets `collapsed` when the
+  // attempt must be abandoned.
+  void add_eye(Index eye, Index f) {
+    find_horizon(eye, f);
+    if (!horizon_is_simple()) {
+      // Visibility inconsistent within eps (nearly coplanar faces seen
+      // edge-on): no cone can be built without breaking the structure or
+      // leaving the point out. Give up this attempt; the retry's larger eps
+      // merges those faces.
+      for (Index g : visible) faces[g].mark = Mark::alive;
+      collapsed = true;
+      return;
+    }
+    merged = false;
+    add_point(eye);
+    if (!collapsed && !new_faces_sound(merged)) collapsed = true;
+#ifdef HEDRA_QUICKHULL_DEBUG
+    // Debugging aid: the full O(E) check after every iteration, reporting
+    // the first iteration that leaves the structure inconsistent.
+    const std::string problem = collapsed ? std::string() : check_structure();
+    if (!problem.empty()) {
+      std::fprintf(stderr, "quickhull: after adding point %u: %s\n", eye, problem.c_str());
+      collapsed = true;
+    }
+#endif
+  }
+
+  // ---- end passes ---------------------------------------------------------
+  // Sets topology_failure unless the finished structure is a sound solid:
+  // at least four faces, consistent links with V - E + F = 2, and faces
+  // planar and edges convex within 4 eps.
+  void check_solid(QuickhullResult& r) {
+    if (r.status != QuickhullStatus::ok) return;
+    std::size_t alive = 0;
+    for (const WorkFace& face : faces) alive += face.mark == Mark::alive;
+    if (alive < 4 || collapsed) {
+      // A slab only a few eps thick can merge away into nothing: not a solid
+      // at this tolerance (the retry's larger eps sees it as flat).
+      r.status = QuickhullStatus::topology_failure;
+      r.error = "solid collapsed while merging at tolerance " + std::to_string(eps);
+    } else if (!structure_is_sound()) {
+      r.status = QuickhullStatus::topology_failure;
+      r.error = "inconsistent structure after merging at tolerance " + std::to_string(eps);
+      collapsed = true;
+    } else if (!faces_are_sound(4 * eps)) {
+      r.status = QuickhullStatus::topology_failure;
+      r.error = "faces warped beyond the tolerance " + std::to_string(eps);
+    }
+  }
+
   QuickhullResult build(const Eigen::Vector3d* input, std::size_t n, const QuickhullOptions& options);
   void build_once(const Eigen::Vector3d* input, std::size_t n, const QuickhullOptions& options, const Vec3& centre,
                   const Vec3& max_abs, QuickhullResult& r);
@@ -845,199 +1114,23 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
   const double world = 3 * kDblEps * (centre.cwiseAbs().sum() + max_abs.sum());
   const double mesh_tolerance = 8 * eps + 4 * world;
 
-  // Initial simplex.
-  Index i0 = extreme[0], i1 = extreme[1];
-  double best = -1;
-  for (int a = 0; a < 6; ++a)
-    for (int b = a + 1; b < 6; ++b) {
-      const double d = (pts[extreme[a]] - pts[extreme[b]]).squaredNorm();
-      if (d > best) best = d, i0 = extreme[a], i1 = extreme[b];
-    }
-  // A point when the widest pair is within the output's tolerance, not only
-  // within eps: the validator (and any user of mesh.tolerance()) would see a
-  // shorter segment as two coincident end points (found by fuzzing: two
-  // points 2 ulps apart at x = 1.5).
-  if (std::sqrt(best) <= std::max(eps, mesh_tolerance)) {
-    finish_point(0, input, r);
-    r.mesh.set_tolerance(mesh_tolerance);
+  Simplex simplex;
+  if (!find_simplex(input, n, mesh_tolerance, simplex, r)) {
+    r.mesh.set_tolerance(mesh_tolerance);  // a point, segment or polygon
     return;
   }
-  // Segment ends: the extremes along the direction i0 -> i1.
-  const Vec3 dir = (pts[i1] - pts[i0]).normalized();
-  {
-    double dmin = pts[i0].dot(dir), dmax = pts[i1].dot(dir);
-    for (Index i = 0; i < n; ++i) {
-      const double d = pts[i].dot(dir);
-      if (d < dmin) dmin = d, i0 = i;
-      if (d > dmax) dmax = d, i1 = i;
-    }
-  }
-  const Vec3 dir2 = (pts[i1] - pts[i0]).normalized();
-  Index i2 = i0;
-  best = -1;
-  for (Index i = 0; i < n; ++i) {
-    const double d = (pts[i] - pts[i0]).cross(dir2).squaredNorm();
-    if (d > best) best = d, i2 = i;
-  }
-  if (std::sqrt(best) <= eps) {
-    finish_segment(i0, i1, input, r);
-    r.mesh.set_tolerance(mesh_tolerance);
-    return;
-  }
-  Vec3 normal = triangle_normal(pts[i0], pts[i1], pts[i2]).normalized();
-  Index i3 = i0;
-  best = -1;
-  for (Index i = 0; i < n; ++i) {
-    const double d = std::abs(normal.dot(pts[i] - pts[i0]));
-    if (d > best) best = d, i3 = i;
-  }
-  if (best <= eps) {
-    const Vec3 u = dir2, v = normal.cross(u);
-    finish_polygon(u, v, n, input, r);
-    if (r.dimension != 2) finish_segment(i0, i1, input, r);
-    r.mesh.set_tolerance(mesh_tolerance);
-    return;
-  }
-
-  // Tetrahedron, faces wound outward.
-  edges.clear();
-  faces.clear();
-  collapsed = false;
-  conflict_next.assign(n, kInvalidIndex);
-  point_stamp.assign(n, 0);
-  stamp = 0;
-  if (normal.dot(pts[i3] - pts[i0]) > 0) std::swap(i1, i2);  // base (i0,i1,i2) must face away from i3
-  {
-    const Index f0 = add_triangle(i0, i1, i2);
-    const Index f1 = add_triangle(i0, i3, i1);
-    const Index f2 = add_triangle(i1, i3, i2);
-    const Index f3 = add_triangle(i2, i3, i0);
-    auto e = [&](Index f, int k) {
-      Index h = faces[f].edge;
-      for (int j = 0; j < k; ++j) h = edges[h].next;
-      return h;
-    };
-    // f0: i0->i1, i1->i2, i2->i0; f1: i0->i3, i3->i1, i1->i0;
-    // f2: i1->i3, i3->i2, i2->i1; f3: i2->i3, i3->i0, i0->i2.
-    link_twins(e(f0, 0), e(f1, 2));
-    link_twins(e(f0, 1), e(f2, 2));
-    link_twins(e(f0, 2), e(f3, 2));
-    link_twins(e(f1, 0), e(f3, 1));
-    link_twins(e(f1, 1), e(f2, 0));
-    link_twins(e(f2, 1), e(f3, 0));
-    for (Index f = 0; f < 4; ++f) update_face(f);
-  }
-  for (Index i = 0; i < n; ++i) {
-    if (i == i0 || i == i1 || i == i2 || i == i3) continue;
-    Index best_face = kInvalidIndex;
-    double best_distance = eps;
-    for (Index f = 0; f < 4; ++f) {
-      const double d = faces[f].distance(pts[i]);
-      if (d > best_distance) best_distance = d, best_face = f;
-    }
-    if (best_face != kInvalidIndex) push_conflict(best_face, i);
-  }
-
-  // Merging tilts planes, so a point dropped as inside (within eps of the
-  // faces it was tested against) can end up farther out. After the main
-  // loop, every non-vertex point is checked against the final hull and the
-  // ones outside by more than 6 eps go back to conflict lists for another
-  // round; a few rounds settle it, otherwise the attempt fails and the retry
-  // uses a larger eps. The cap counts every point added, over all rounds.
-  const std::size_t cap = options.max_iterations > 0 ? options.max_iterations : 4 * n + 4;
-  constexpr int kRounds = 4;
-  for (int round = 0;; ++round) {
-    for (Index cursor = 0; cursor < faces.size() && !collapsed;) {
-      WorkFace& face = faces[cursor];
-      if (face.mark != Mark::alive || face.conflict == kInvalidIndex) {
-        ++cursor;
-        continue;
-      }
-      if (r.iterations >= cap) {
-        r.status = QuickhullStatus::iteration_limit;
-        r.error = "iteration cap of " + std::to_string(cap) + " reached";
-        break;
-      }
-      // The eye: the farthest conflict point of this face; unlink it.
-      Index eye = kInvalidIndex, eye_prev = kInvalidIndex, prev = kInvalidIndex;
-      double eye_distance = -std::numeric_limits<double>::infinity();
-      for (Index p = face.conflict; p != kInvalidIndex; prev = p, p = conflict_next[p]) {
-        const double d = face.distance(pts[p]);
-        if (d > eye_distance) eye_distance = d, eye = p, eye_prev = prev;
-      }
-      if (eye_prev == kInvalidIndex)
-        face.conflict = conflict_next[eye];
-      else
-        conflict_next[eye_prev] = conflict_next[eye];
-      ++r.iterations;
-      if (eye_distance <= eps) continue;  // the face moved in a merge; the point is on the hull now
-      {
-        // A (near-)duplicate of a vertex of its face lies just above the faces
-        // around that vertex: it is on the hull already.
-        bool duplicate = false;
-        Index e = face.edge;
-        std::size_t guard = 0;
-        do {
-          duplicate = (pts[edges[e].origin] - pts[eye]).squaredNorm() <= eps * eps;
-          e = edges[e].next;
-        } while (!duplicate && e != face.edge && ++guard <= edges.size());
-        if (duplicate) continue;
-      }
-      find_horizon(eye, cursor);
-      if (!horizon_is_simple()) {
-        // Visibility inconsistent within eps (nearly coplanar faces seen
-        // edge-on): no cone can be built without breaking the structure or
-        // leaving the point out. Give up this attempt; the retry's larger eps
-        // merges those faces.
-        for (Index f : visible) faces[f].mark = Mark::alive;
-        collapsed = true;
-        break;
-      }
-      merged = false;
-      add_point(eye);
-      if (!collapsed && !new_faces_sound(merged)) collapsed = true;
-#ifdef HEDRA_QUICKHULL_DEBUG
-      // Debugging aid: the full O(E) check after every iteration, reporting
-      // the first iteration that leaves the structure inconsistent.
-      const std::string problem = collapsed ? std::string() : check_structure();
-      if (!problem.empty()) {
-        std::fprintf(stderr, "quickhull: after adding point %u: %s\n", eye, problem.c_str());
-        collapsed = true;
-      }
-#endif
-    }
-    if (collapsed || r.status != QuickhullStatus::ok) break;
-    const std::size_t outside = reinsert_outside_points(n);
-    if (outside == 0) break;
-    if (round + 1 == kRounds) {
-      collapsed = true;
-      r.error = std::to_string(outside) + " points still outside after " + std::to_string(kRounds) + " rounds";
-      break;
-    }
-  }
-  std::size_t alive = 0;
-  for (const WorkFace& face : faces) alive += face.mark == Mark::alive;
-  if (r.status == QuickhullStatus::ok && (alive < 4 || collapsed)) {
-    // A slab only a few eps thick can merge away into nothing: not a solid
-    // at this tolerance (the retry's larger eps sees it as flat).
-    r.status = QuickhullStatus::topology_failure;
-    r.error = "solid collapsed while merging at tolerance " + std::to_string(eps);
-  } else if (r.status == QuickhullStatus::ok && !structure_is_sound()) {
-    r.status = QuickhullStatus::topology_failure;
-    r.error = "inconsistent structure after merging at tolerance " + std::to_string(eps);
-    collapsed = true;
-  } else if (r.status == QuickhullStatus::ok && !faces_are_sound(4 * eps)) {
-    r.status = QuickhullStatus::topology_failure;
-    r.error = "faces warped beyond the tolerance " + std::to_string(eps);
-  }
+  add_tetrahedron(simplex, n);
+  assign_initial_conflicts(simplex, n);
+  expand(n, options, r);
+  check_solid(r);
   if (collapsed) return;  // nothing trustworthy to compact; the caller retries
   compact(input, r);
   r.mesh.set_tolerance(mesh_tolerance);
-  // The output must pass the validator (O(E) form) at its own tolerance;
-  // if rounding in ill-conditioned input defeated the checks above (found by
-  // fuzzing: three near-duplicates 2e-17 apart on a ray gave a sliver whose
-  // world-coordinate plane came out wound against its polygon), the caller
-  // retries at a larger eps.
+  // The output must pass the validator (O(E) form) at its own tolerance; if
+  // rounding in ill-conditioned input defeated the checks above (three
+  // near-duplicates 2e-17 apart on a ray gave a sliver whose world-coordinate
+  // plane came out wound against its polygon), the caller retries at a
+  // larger eps.
   if (r.status == QuickhullStatus::ok && !r.mesh.validate(mesh_tolerance, false).ok()) {
     r.status = QuickhullStatus::topology_failure;
     r.error = "output failed validation at tolerance " + std::to_string(eps);

@@ -8,8 +8,8 @@
 // closed, consistently wound surface the signed sum is the solid. r is the
 // average of the vertices (inside a convex mesh), so all arithmetic is done
 // on coordinates relative to the mesh and an offset of 1e6 from the origin
-// costs no accuracy. The derivation of the per-tetrahedron formulas is at the
-// top of mass.cpp.
+// costs no accuracy. The derivation of the per-tetrahedron formulas:
+// docs/design.md (hull).
 //
 // Degenerate meshes: a flat polygon (two back-to-back faces, or any mesh
 // whose signed volume is within rounding of zero) has zero volume and

@@ -4,32 +4,13 @@
 //
 // Every operation either leaves the mesh unchanged (and says so) or leaves it
 // with every invariant of half_edge_mesh.hpp intact, so validate() passes
-// after each call on a valid input.
-//
-// split_edge / split_face are local, in-place and O(face degree); they append
-// elements (the new vertex / half-edges / face go to the ends of the arrays)
-// and never invalidate existing indices.
-//
-// cut_by_plane classifies the vertices against the plane with the mesh's
-// tolerance (front: d > tol, behind: d < -tol, on: otherwise) so that a plane
-// passing within tolerance of a vertex goes exactly through it and no sliver
-// edge or face appears. It then rebuilds the kept part into fresh, compact
-// arrays in one pass:
-//   * a face with a vertex strictly behind is kept: its front runs are
-//     replaced by a chord between the two on-plane points bounding each run
-//     (an original on-plane vertex, or a new vertex where an edge runs from
-//     strictly behind to strictly in front);
-//   * every other face (only front and on-plane vertices) is dropped;
-//   * the half-edges of kept faces whose twins were dropped (chords, and
-//     edges whose other face was dropped) form the border of the opening; on
-//     a convex surface it is one simple loop, and its reverse becomes the cap
-//     face, whose plane is the cutting plane. A flat (two-sided) mesh has no
-//     opening: its border half-edges pair up and become each other's twins.
-// Kept faces keep their planes; kept vertices and faces keep their relative
-// order, new vertices follow them and the cap face comes last. If the
-// classification does not describe one simple border loop (only possible
-// when rounding noise makes a nearly flat vertex look non-convex), nothing
-// is changed and the status says topology_failure.
+// after each call on a valid input. split_edge / split_face are local,
+// in-place, O(face degree), append new elements and never invalidate indices.
+// cut_by_plane classifies vertices with the mesh's tolerance (a plane within
+// it of a vertex goes through the vertex: no slivers), rebuilds the kept part
+// into fresh arrays and caps the opening (a flat mesh is cut across); when
+// the border is not one simple loop it changes nothing (topology_failure).
+// How the kept part is built: docs/design.md (hull).
 #pragma once
 
 #include <cstddef>

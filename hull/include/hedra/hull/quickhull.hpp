@@ -1,56 +1,18 @@
-// Quickhull in 3D, writing a half-edge convex polyhedron with convex polygon
-// faces (Barber, Dobkin, Huhdanpaa 1996; face merging during construction as
-// in Gregorius, "Implementing Quickhull", GDC 2014).
-//
-// Outline:
-//   1. Reject empty or non-finite input (the error names the first bad point),
-//      and input spanning more than max_input_extent (1e60) along an axis:
-//      normals are cross products of coordinate differences and their squared
-//      lengths multiply four of them, which must not overflow a double (found
-//      by fuzzing: a span of 1e98 gave a zero normal and a wrong hull). For
-//      the same reason a widest span below min_input_extent (1e-60) that is
-//      not zero is rejected too: those products underflow to zero (found by
-//      fuzzing: points 1e-154 apart read as a segment, a corner left out).
-//      All points equal (span 0) is a point hull, as always.
-//   2. Recentre the points on their bounding-box centre and derive the
-//      tolerance from the recentred extent:
-//        eps = 3 * DBL_EPSILON * (max|x| + max|y| + max|z|),
-//      so that coordinates far from the origin coarsen nothing.
-//   3. Initial simplex from extreme points: the farthest pair of the six
-//      axis-extreme points, the farthest point from their line, the farthest
-//      point from that plane. Whenever one of these spans is <= eps the input
-//      is degenerate and the hull is a point, a segment, or a flat convex
-//      polygon (a 2D hull in the best-fit plane, stored as two back-to-back
-//      faces).
-//   4. Every point goes to the conflict list of a face it lies more than eps
-//      in front of (the farthest such face for the initial simplex, the first
-//      one afterwards); points in front of no face are inside and dropped.
-//   5. Repeatedly take the farthest conflict point of a face (the eye), find
-//      the faces it sees by a depth-first walk over the half-edges, whose
-//      border is the horizon, replace them by a cone of triangles from the
-//      horizon to the eye, merge each new face with any neighbour it is not
-//      clearly convex with (centroid of either face less than eps behind the
-//      other's plane), repair the topology the merge leaves (redundant
-//      vertices of degree two, swallowed triangles), and hand the orphaned
-//      conflict points of the removed faces to the new faces.
-//      A third pass absorbs, across the edge leading in, any face that makes
-//      a merged polygon turn outward at a vertex (nearly coplanar faces meeting
-//      there). Planes come from hull::polygon_plane (Newell, corrected along
-//      the longest edge so that slivers keep their vertices on the plane).
-//   6. Compact the working structure into a HalfEdgeMesh whose vertices are
-//      exactly input points (QuickhullResult::input_index maps them back).
-//
-// Self-check and retry: each result is checked in O(E) (faces planar and
-// edges convex within 4 eps, the faces touched by each iteration linked
-// consistently). Input that defeats eps (clusters of near-duplicates, slabs a
-// few eps thick that flatten while merging) fails the check; the build then
-// restarts with eps eightfold larger, up to a millionth of the extent, so
+// Quickhull in 3D into a half-edge convex polyhedron with convex polygon
+// faces (Barber, Dobkin, Huhdanpaa 1996; merging during construction as in
+// Gregorius, "Implementing Quickhull", GDC 2014). Input is checked (finite,
+// spans within [min_input_extent, max_input_extent]) and recentred; eps =
+// 3 DBL_EPSILON (max|x| + max|y| + max|z|) of the recentred extent. A simplex
+// from the extreme points (or a point, segment or flat polygon when the input
+// spans no volume within eps), then per eye: horizon, cone, merges of faces
+// not clearly convex, orphans reassigned; points merging left outside are put
+// back. Invariants between iterations: a closed 2-manifold, every edge convex
+// within eps, a conflict point joins a face only when more than eps in front
+// of it (a merge may tilt the plane later: the eye is checked again), the
+// loop capped and the cap reported. Each result is checked in O(E); a
+// failure retries with eps eightfold larger (up to 1e-6 of the extent), so
 // the answer is a valid hull at a stated tolerance, never a broken one.
-//
-// Invariants kept between iterations: the working structure is a closed
-// 2-manifold; every edge is convex within eps; every conflict point is more
-// than eps in front of its face. Each iteration consumes one point for good,
-// so the loop runs at most n times; the cap is still checked and reported.
+// The step-by-step outline: docs/design.md (hull).
 #pragma once
 
 #include <cstddef>
