@@ -278,6 +278,23 @@ namespace {
 
 // invalid_mesh when the mesh cannot be cut as it stands (empty, inconsistent
 // counts, non-finite positions, links out of range), unchanged otherwise.
+// The links every walk of the cut relies on (indices already in range):
+// twins pair up, next and prev are inverse, a face's cycle stays on the face
+// and a twin starts where the edge ends. A mesh that breaks them would send
+// the cut's walks astray, so it is rejected before any of them.
+bool links_consistent(const HalfEdgeMesh& mesh) {
+  const std::size_t H = mesh.edges.size();
+  for (std::size_t e = 0; e < H; ++e) {
+    const HalfEdge& h = mesh.edges[e];
+    const HalfEdge& next = mesh.edges[h.next];
+    if (h.twin == e || mesh.edges[h.twin].twin != e || next.prev != e || mesh.edges[h.prev].next != e) return false;
+    if (next.face != h.face || next.origin != mesh.edges[h.twin].origin) return false;
+  }
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+    if (mesh.faces[f].edge >= H || mesh.edges[mesh.faces[f].edge].face != f) return false;
+  return true;
+}
+
 CutStatus check_cut_input(const HalfEdgeMesh& mesh) {
   const std::size_t V = mesh.vertices.size(), H = mesh.edges.size(), F = mesh.faces.size();
   if (V == 0 || H % 2 != 0 || (H == 0) != (F == 0)) return CutStatus::invalid_mesh;
@@ -287,7 +304,7 @@ CutStatus check_cut_input(const HalfEdgeMesh& mesh) {
   if (H == 0 && V > 2) return CutStatus::invalid_mesh;
   for (const auto& h : mesh.edges)
     if (h.origin >= V || h.twin >= H || h.next >= H || h.prev >= H || h.face >= F) return CutStatus::invalid_mesh;
-  return CutStatus::unchanged;
+  return links_consistent(mesh) ? CutStatus::unchanged : CutStatus::invalid_mesh;
 }
 
 // One cut of a mesh with faces, phase by phase (docs/design.md, hull): the

@@ -397,6 +397,28 @@ TEST(CutByPlane, RejectsBadPlanesAndMeshes) {
   EXPECT_EQ(c.count, 0u);
 }
 
+// Links within range but inconsistent (a twin pointing at the wrong
+// half-edge, a broken next/prev pair, a face whose edge lies on another
+// face) once sent the cut's walks out of the mesh: invalid_mesh, untouched.
+TEST(CutByPlane, InconsistentLinksAreRejectedBeforeAnyWalk) {
+  const auto corrupt = [](auto&& edit) {
+    HalfEdgeMesh m = test::unit_cube();
+    edit(m);
+    const auto before = m.polygons();
+    EXPECT_EQ(cut_by_plane(m, make_plane({0, 0, 1}, 0.5)).status, CutStatus::invalid_mesh);
+    EXPECT_EQ(m.polygons(), before);
+  };
+  corrupt([](HalfEdgeMesh& m) { m.edges[0].twin = m.edges[0].next; });
+  corrupt([](HalfEdgeMesh& m) { m.edges[0].twin = 0; });
+  corrupt([](HalfEdgeMesh& m) { m.edges[m.edges[0].next].prev = m.edges[0].twin; });
+  corrupt([](HalfEdgeMesh& m) { m.edges[0].face = (m.edges[0].face + 1) % m.faces.size(); });
+  corrupt([](HalfEdgeMesh& m) { m.faces[0].edge = m.edges[m.faces[0].edge].twin; });
+  corrupt([](HalfEdgeMesh& m) { m.edges[0].origin = m.edges[m.edges[0].next].origin; });
+  // The intact cube still cuts.
+  HalfEdgeMesh m = test::unit_cube();
+  EXPECT_EQ(cut_by_plane(m, make_plane({0, 0, 1}, 0.5)).status, CutStatus::cut);
+}
+
 TEST(CutByPlane, NonConvexInputFailsAndLeavesTheMeshAlone) {
   // A cube with a pyramid dent in its top (not convex: validate() says so).
   // The plane z = 0.75 crosses it in two loops, round the sides and round

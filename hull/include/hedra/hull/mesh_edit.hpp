@@ -50,7 +50,8 @@ enum class CutStatus {
                      // thickness remains behind the plane; the mesh is cleared
   invalid_plane,     // zero or non-finite normal, or non-finite offset: untouched
   invalid_mesh,      // empty mesh, non-finite positions (or so large that edge
-                     // vectors overflow), or out-of-range links: untouched
+                     // vectors overflow), or out-of-range or inconsistent links
+                     // (twins, next/prev, faces, origins): untouched
   topology_failure,  // the classification gave no single border loop (see the
                      // note at the top): untouched
 };
