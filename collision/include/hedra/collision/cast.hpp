@@ -35,7 +35,7 @@ struct ShapeCastSettings {
   // A hit's distance is within tolerance * size above the target (size: the
   // larger bounding radius of the two shapes), and never below the rounding
   // of the pair's coordinates.
-  double tolerance = 1e-9;
+  double tolerance = 1e-10;
   // Ray-cast iterations (polytopes: a few; curved cores: tens).
   int max_iterations = 128;
 };
