@@ -1,5 +1,5 @@
 // Ray casts (see raycast.hpp): the ray in the core's frame, then a closed
-// form (ball, capsule, box) or the GJK ray cast (gjk_raycast.hpp).
+// form (ball, capsule, box, cylinder) or the GJK ray cast (gjk_raycast.hpp).
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/gjk_raycast.hpp>
@@ -97,13 +97,61 @@ LocalHit ray_box(const Box& s, const Vec& o, const Vec& d, double max_fraction, 
     }
     leave = std::min(leave, t1);
   }
-  // o is outside some slab it moves into (else it is inside or moving away:
-  // leave < enter), so enter >= 0.
-  if (axis < 0 || enter > leave) return {};
+  // o is outside some slab i (|o_i| > h_i, d_i != 0): the ray is inside it
+  // over [t0, t1], which excludes 0. Both after 0: enter >= t0 > 0; both
+  // before (moving away from the slab): leave <= t1 < 0, a miss, even when
+  // the other slabs make enter <= leave.
+  if (axis < 0 || enter > leave || leave < 0.0) return {};
   enter = std::max(enter, 0.0);
   Vec n = Vec::Zero();
   n[axis] = d[axis] > 0.0 ? -1.0 : 1.0;
   return {CastStatus::hit, enter, n, 0.0, 0};
+}
+
+// The cylinder |z| <= h, x^2 + y^2 <= r^2 is the slab |z| <= h intersected
+// with the infinite cylinder: the ray enters it when it has entered both
+// (the later entry; its surface gives the normal), as in the slab test. The
+// side's interval comes from the closest approach to the axis, as for a
+// ball; a ray passing within the tolerance of the side touches it there.
+LocalHit ray_cylinder(const Cylinder& s, const Vec& o, const Vec& d, double max_fraction, double tolerance) {
+  const double r = s.radius, h = s.half_length;
+  // (Plain square roots: coordinates are within 1e60 and sizes above 1e-60.)
+  const double rho = std::sqrt(o.x() * o.x() + o.y() * o.y());
+  if (std::abs(o.z()) <= h + tolerance && rho <= r + tolerance) return inside();
+  const double inf = std::numeric_limits<double>::infinity();
+  // The slab.
+  double cap_enter = -inf, cap_leave = inf;
+  if (d.z() != 0.0) {
+    cap_enter = (-h - o.z()) / d.z();
+    cap_leave = (h - o.z()) / d.z();
+    if (cap_enter > cap_leave) std::swap(cap_enter, cap_leave);
+  } else if (std::abs(o.z()) > h) {
+    return {};
+  }
+  // The side.
+  double side_enter = -inf, side_leave = inf, graze = 0.0;
+  const double a = d.x() * d.x() + d.y() * d.y();
+  if (a > 0.0) {
+    const double closest = -(o.x() * d.x() + o.y() * d.y()) / a;
+    const double px = o.x() + closest * d.x(), py = o.y() + closest * d.y();
+    const double p = std::sqrt(px * px + py * py);
+    if (p > r + tolerance) return {};
+    const double half = std::sqrt(std::max(r - p, 0.0) * (r + p) / a);
+    side_enter = closest - half;
+    side_leave = closest + half;
+    graze = std::max(p - r, 0.0);
+  } else if (rho > r) {
+    return {};
+  }
+  const double enter = std::max(cap_enter, side_enter), leave = std::min({cap_leave, side_leave, max_fraction});
+  // o is outside the slab or the side, so (as in ray_box) a hit enters at or after 0.
+  if (enter > leave || leave < 0.0) return {};
+  const double t = std::max(enter, 0.0);
+  if (side_enter >= cap_enter) {
+    const Vec at = o + t * d;
+    return {CastStatus::hit, t, safe_unit(Vec(at.x(), at.y(), 0.0)), graze, 0};
+  }
+  return {CastStatus::hit, t, Vec(0.0, 0.0, d.z() > 0.0 ? -1.0 : 1.0), 0.0, 0};
 }
 
 // Every other shape: GJK ray cast on the core, grown by its radius.
@@ -129,6 +177,12 @@ LocalHit ray_local(const Sphere& s, const Vec& o, const Vec& d, double max_fract
 LocalHit ray_local(const Capsule& s, const Vec& o, const Vec& d, double max_fraction, double tolerance,
                    const RaycastSettings&) {
   return ray_capsule(s, o, d, max_fraction, tolerance);
+}
+// A rounded cylinder's edge is a torus (a quartic): GJK.
+LocalHit ray_local(const Cylinder& s, const Vec& o, const Vec& d, double max_fraction, double tolerance,
+                   const RaycastSettings& settings) {
+  if (s.margin > 0.0) return ray_gjk(s, o, d, max_fraction, tolerance, settings);
+  return ray_cylinder(s, o, d, max_fraction, tolerance);
 }
 LocalHit ray_local(const Box& s, const Vec& o, const Vec& d, double max_fraction, double tolerance,
                    const RaycastSettings& settings) {

@@ -234,7 +234,8 @@ TEST(Raycast, ClosedFormsSphereBoxCapsuleCylinder) {
   r = raycast(capsule, Pose::identity(), Vec(0, 0, 5), Vec(0, 0, -1), 10.0);
   EXPECT_NEAR(r.fraction, 3.5, 1e-14);
   EXPECT_NEAR((r.normal - Vec(0, 0, 1)).norm(), 0.0, 1e-14);
-  // Cylinder: parallel to the axis onto the cap (through GJK), and onto the side.
+  // Cylinder (closed form; the rounded one goes through GJK): parallel to the
+  // axis onto the cap, along the side's line, and onto the side.
   const Cylinder cylinder{0.5, 1.0, 0.0};
   r = raycast(cylinder, Pose::identity(), Vec(0.3, 0.2, 5), Vec(0, 0, -1), 10.0);
   ASSERT_EQ(r.status, CastStatus::hit);
@@ -248,6 +249,21 @@ TEST(Raycast, ClosedFormsSphereBoxCapsuleCylinder) {
   r = raycast(cylinder, Pose::identity(), Vec(-3, 0.3, 0.2), Vec(1, 0, 0), 10.0);
   ASSERT_EQ(r.status, CastStatus::hit);
   EXPECT_NEAR(r.fraction, 3.0 - 0.4, 1e-9);
+}
+
+TEST(Raycast, BoxBehindARayLeavingItsSlabMisses) {
+  // The origin is outside the x slab and moves away from it; the y slab is
+  // entered so long before 0 that the slab test's [enter, leave] is not
+  // empty, but it ends before 0: a miss, not a hit at 0.
+  const Box box{Vec(1.0, 40.0, 50.0), 0.0};
+  RaycastResult r = raycast(box, Pose::identity(), Vec(-3, 0, 0), Vec(-1, 0.5, 0), 10.0);
+  EXPECT_EQ(r.status, CastStatus::separated);
+  EXPECT_FALSE(r.hit);
+  EXPECT_EQ(r.fraction, 10.0);
+  // Reversed, the same ray hits the face x = -1 at t = 2.
+  r = raycast(box, Pose::identity(), Vec(-3, 0, 0), Vec(1, -0.5, 0), 10.0);
+  EXPECT_EQ(r.status, CastStatus::hit);
+  EXPECT_DOUBLE_EQ(r.fraction, 2.0);
 }
 
 TEST(Raycast, FromInsideReportsFractionZero) {

@@ -6,8 +6,9 @@
 // be unit: t is a fraction of it). The ray goes into the shape's local frame
 // once (relative to the core's offset: a polyhedron's centroid), so a shape
 // far from the world origin loses nothing of its own size. Then:
-//   sphere, capsule (any margin) and box without margin: closed forms (the
-//     closest approach to the centre or axis, then the root; the slab test);
+//   sphere, capsule (any margin), box and cylinder without margin: closed
+//     forms (the closest approach to the centre or axis, then the root; the
+//     slab test; the cylinder's slab and side);
 //   everything else: the GJK ray cast of gjk_raycast.hpp on the core, grown
 //     by the core's radius, which never steps past the surface.
 // A ray starting inside (or within the tolerance of) the shape hits at 0 with
