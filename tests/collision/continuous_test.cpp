@@ -681,6 +681,41 @@ TEST(TimeOfImpact, SmallAgainstLargeAndFarFromTheOrigin) {
   report("thin plate 1e4..1e6 away", far_stats);
 }
 
+TEST(TimeOfImpact, TolerancesScaleWithTheLargerBodyUnlessTightened) {
+  // 1e-3 bodies falling, spinning, onto a 1e3 block: the default tolerance
+  // (1e-9 of the larger size) stops within 1.7e-6 of contact, 1.7e-3 of the
+  // small body; the documented tightening resolves the small body.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Box block{Vec(1e3, 1e3, 1e3), 0.0};
+  const Pose block_pose = Pose::from_translation(Vec(0, 0, -1e3));
+  ToiSettings tight;
+  tight.tolerance = 1e-13;
+  tight.gjk.absolute_tolerance = tight.gjk.relative_tolerance = 1e-14;
+  double worst_default = 0.0, worst_tight = 0.0;
+  for (const auto& [shape, points] : projectiles(rng, 1e-3)) {
+    for (int i = 0; i < 4; ++i) {
+      const Quat q0 = random_rotation(rng), q1 = Quat(Eigen::AngleAxisd(2.0, random_unit(rng))) * q0;
+      const Sweep sweep{Pose::from_quaternion(q0, Vec(u(rng), u(rng), 0.5)),
+                        Pose::from_quaternion(q1, Vec(u(rng), u(rng), -0.5))};
+      for (const bool tightened : {false, true}) {
+        const CastResult r =
+            time_of_impact(shape, sweep, block, {block_pose, block_pose}, tightened ? tight : ToiSettings{});
+        ASSERT_EQ(r.status, CastStatus::hit);
+        const PenetrationResult p = penetration(shape, pose_at(sweep, r.fraction), block, block_pose);
+        ASSERT_EQ(p.status, Status::ok);
+        EXPECT_GE(p.distance, -1e-12);  // never inside
+        (tightened ? worst_tight : worst_default) = std::max(tightened ? worst_tight : worst_default, p.distance);
+      }
+    }
+  }
+  std::printf("1e-3 onto 1e3: distance at the time of impact <= %.1e (default), %.1e (tightened)\n", worst_default,
+              worst_tight);
+  EXPECT_LE(worst_default, 1e-9 * std::sqrt(3.0) * 1e3);
+  EXPECT_GT(worst_default, 1e-9);  // the default does not resolve the small body: the tightening is needed
+  EXPECT_LE(worst_tight, 1e-6 * 1e-3);
+}
+
 TEST(TimeOfImpact, RandomPairsOfEveryShapeAgainstTheReference) {
   std::mt19937_64 rng(2022);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -34,7 +34,9 @@ struct ShapeCastSettings {
   double linear_slop = 0.0;
   // A hit's distance is within tolerance * size above the target (size: the
   // larger bounding radius of the two shapes), and never below the rounding
-  // of the pair's coordinates.
+  // of the pair's coordinates. The larger body sets the scale: against a
+  // body 1e6 times larger, a small one stops within 1e-4 of its own size
+  // (lower this to resolve it finer, down to that rounding).
   double tolerance = 1e-10;
   // Ray-cast iterations (polytopes: a few; curved cores: tens).
   int max_iterations = 128;

@@ -51,7 +51,13 @@ struct ToiSettings {
   double linear_slop = 0.0;
   // A hit's distance is within tolerance * size above the target (size: the
   // larger bounding radius), and never below the rounding of the pair's
-  // coordinates.
+  // coordinates (32 eps (size + the distance travelled)). The larger body
+  // sets the scale, as GJK's own tolerance does: a 1e-3 body against a 1e3
+  // one stops up to 1.7e-6 from the target, 1.7e-3 of the small body. A
+  // caller who needs the small body's scale lowers this and gjk's two
+  // tolerances together (1e-13 and 1e-14 there: within 1.7e-7 of the small
+  // body, a step or two more); the rounding of the large body's coordinates
+  // is the floor.
   double tolerance = 1e-9;
   // Advancement steps. Each one costs a GJK query; the steps shrink
   // geometrically with the ratio of the true closing speed to its bound
