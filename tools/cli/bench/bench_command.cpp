@@ -9,6 +9,8 @@
 // /usr/bin/python3 (matplotlib) for the PNG and SVG figures. Progress goes to
 // stderr, the markdown report to stdout. Exit 0 when hedra (every tolerance
 // of the sweep) has no failure, 1 when it has some, 2 for bad input.
+// --continuous runs the sweep families of continuous.hpp instead, through
+// the same steps (no plots).
 #include "cli/bench/bench_command.hpp"
 
 #include <spawn.h>
@@ -129,6 +131,42 @@ std::optional<bench::FamilyRun> scene_family(const std::string& path, std::strin
   return run;
 }
 
+// Creates `dir` and opens each output's temporary file there (an unwritable
+// directory fails before minutes of work); nothing when it cannot, said on err.
+std::optional<std::vector<AtomicFile>> open_outputs(const std::string& dir, const std::vector<std::string>& names,
+                                                    std::ostream& err) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) {
+    err << "hedra bench: " << dir << ": cannot create the output directory"
+        << (ec ? ": " + ec.message() : std::string()) << "\n";
+    return std::nullopt;
+  }
+  std::vector<AtomicFile> files;
+  for (const std::string& name : names) {
+    std::string error;
+    std::optional<AtomicFile> file = AtomicFile::open((fs::path(dir) / name).string(), error);
+    if (!file) {
+      err << "hedra bench: " << error << "\n";
+      return std::nullopt;
+    }
+    files.push_back(std::move(*file));
+  }
+  return files;
+}
+
+// Writes each file whole; false (said on err) when one cannot be.
+bool commit_outputs(std::vector<AtomicFile>& files, const std::vector<std::string>& contents, std::ostream& err) {
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    std::string error;
+    if (!files[k].commit(contents[k], error)) {
+      err << "hedra bench: " << error << "\n";
+      return false;
+    }
+  }
+  return true;
+}
+
 // Whether every name is in `known`; otherwise says which is not.
 bool all_known(const std::vector<std::string>& names, const std::vector<std::string>& known, const char* option,
                std::ostream& err) {
@@ -149,18 +187,8 @@ int run_continuous_command(const BenchCommandOptions& options, std::string& out,
   if (!all_known(options.families, bench::continuous_family_names(), "--family", err) ||
       !all_known(options.methods, bench::continuous_method_names(), "--method", err))
     return kExitBadInput;
-  std::error_code ec;
-  fs::create_directories(options.out, ec);
-  std::vector<AtomicFile> files;
-  for (const char* name : {"continuous.csv", "continuous.md"}) {
-    std::string error;
-    std::optional<AtomicFile> file = AtomicFile::open((fs::path(options.out) / name).string(), error);
-    if (!file) {
-      err << "hedra bench: " << error << "\n";
-      return kExitBadInput;
-    }
-    files.push_back(std::move(*file));
-  }
+  std::optional<std::vector<AtomicFile>> files = open_outputs(options.out, {"continuous.csv", "continuous.md"}, err);
+  if (!files) return kExitBadInput;
   bench::ContinuousOptions co;
   co.seed = options.seed;
   co.quick = options.quick;
@@ -174,14 +202,7 @@ int run_continuous_command(const BenchCommandOptions& options, std::string& out,
                              "`\n- date: " + date + "\n- machine: " + bench::machine_description() +
                              "\n- load: " + load_before + " -> " + bench::load_average() + "\n\n";
   const std::string md = bench::continuous_markdown(report, header);
-  const std::vector<std::string> contents = {bench::continuous_csv(report), md};
-  for (std::size_t k = 0; k < files.size(); ++k) {
-    std::string error;
-    if (!files[k].commit(contents[k], error)) {
-      err << "hedra bench: " << error << "\n";
-      return kExitBadInput;
-    }
-  }
+  if (!commit_outputs(*files, {bench::continuous_csv(report), md}, err)) return kExitBadInput;
   out = md;
   const int problems = bench::continuous_hedra_problems(report);
   err << "bench: " << options.out
@@ -245,24 +266,9 @@ int run_bench_command(const BenchCommandOptions& options, std::string& out, std:
     }
   }
 
-  std::error_code ec;
-  fs::create_directories(options.out, ec);
-  if (ec || !fs::is_directory(options.out)) {
-    err << "hedra bench: " << options.out << ": cannot create the output directory"
-        << (ec ? ": " + ec.message() : std::string()) << "\n";
-    return kExitBadInput;
-  }
-  const std::vector<std::string> names = {"summary.csv", "cases.csv", "stability.csv", "report.md", "plot_bench.py"};
-  std::vector<AtomicFile> files;
-  for (const std::string& name : names) {
-    std::string error;
-    std::optional<AtomicFile> file = AtomicFile::open((fs::path(options.out) / name).string(), error);
-    if (!file) {
-      err << "hedra bench: " << error << "\n";
-      return kExitBadInput;
-    }
-    files.push_back(std::move(*file));
-  }
+  std::optional<std::vector<AtomicFile>> files =
+      open_outputs(options.out, {"summary.csv", "cases.csv", "stability.csv", "report.md", "plot_bench.py"}, err);
+  if (!files) return kExitBadInput;
 
   bench::RunInfo info;
   info.command = options.command_line;
@@ -284,15 +290,11 @@ int run_bench_command(const BenchCommandOptions& options, std::string& out, std:
   info.load_after = bench::load_average();
 
   const std::string md = bench::markdown_report(report, info);
-  const std::vector<std::string> contents = {bench::summary_csv(report), bench::cases_csv(report),
-                                             bench::stability_csv(report), md, std::string(bench::plot_script())};
-  for (std::size_t k = 0; k < files.size(); ++k) {
-    std::string error;
-    if (!files[k].commit(contents[k], error)) {
-      err << "hedra bench: " << error << "\n";
-      return kExitBadInput;
-    }
-  }
+  if (!commit_outputs(*files,
+                      {bench::summary_csv(report), bench::cases_csv(report), bench::stability_csv(report), md,
+                       std::string(bench::plot_script())},
+                      err))
+    return kExitBadInput;
   if (!options.no_plots) {
     const std::string python = options.python.empty() ? default_python() : options.python;
     const std::string problem = run_plots(python, (fs::path(options.out) / "plot_bench.py").string(), options.out);
