@@ -7,7 +7,8 @@
 //   - casts and times of impact: tools/reference's exact signed distance of
 //     the posed pair along the motion (poses from Eigen's slerp), traced with
 //     the Lipschitz bound |v_rel| + theta_a r_a + theta_b r_b, brackets the
-//     first contact [early, late]; a reported time after `late` by more than
+//     first contact [early, late] (reference::exact_first_contact, which
+//     hedra bench --continuous judges with too); a reported time after `late` by more than
 //     the tolerance (in distance along the motion) is tunnelling;
 //   - closed forms: a sphere against a sphere, a box falling onto a plate.
 // Fixed seeds; the worst errors are printed.
