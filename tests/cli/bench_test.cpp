@@ -372,6 +372,38 @@ TEST_F(BenchCli, QuickRunWritesWellFormedOutputsAndHedraHasNoFailure) {
   }
 }
 
+TEST_F(BenchCli, QuickContinuousRunNeverTunnels) {
+  const fs::path out = dir_ / "continuous";
+  const RunResult result = run({"bench", "--continuous", "--quick", "--loops", "1", "--out", out.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out.rfind("# hedra bench --continuous", 0), 0u);
+  EXPECT_EQ(result.out, slurp(out / "continuous.md"));
+  EXPECT_NE(result.err.find("hedra tunnelled, false hits or failures: 0"), std::string::npos) << result.err;
+  const auto rows = records(slurp(out / "continuous.csv"),
+                            "family,method,sweeps,answered,unsupported,failures,hits,tunnelled,through,false_hits,"
+                            "median_ns,max_error");
+  std::set<std::string> families_seen;
+  for (const auto& row : rows) {
+    for (const char* column : {"sweeps", "answered", "tunnelled", "median_ns", "max_error"})
+      EXPECT_TRUE(number_or_empty(row.at(column))) << column << " = '" << row.at(column) << "'";
+    families_seen.insert(row.at("family"));
+    if (row.at("method") != "hedra_toi") continue;
+    const std::string where = row.at("family");
+    EXPECT_EQ(row.at("answered"), row.at("sweeps")) << where;
+    EXPECT_EQ(row.at("tunnelled"), "0") << where;
+    EXPECT_EQ(row.at("false_hits"), "0") << where;
+    EXPECT_GT(std::stod(row.at("median_ns")), 0.0) << where;
+    // Within 1e-9 of the size in distance; along the motion a grazing
+    // approach stretches that (5.6e-9 on toi-grazing).
+    EXPECT_LE(std::stod(row.at("max_error")), 1e-8) << where;
+  }
+  EXPECT_EQ(families_seen, (std::set<std::string>{"toi-thin-plate", "toi-grazing", "toi-rotating-bar",
+                                                  "toi-initial-contact", "toi-small-large", "toi-far"}));
+  const RunResult bad = run({"bench", "--continuous", "--family", "poly-separated", "--out", out.string()});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("unknown name 'poly-separated'"), std::string::npos) << bad.err;
+}
+
 TEST_F(BenchCli, ASceneIsBenchmarkedQueryByQuery) {
   const fs::path out = dir_ / "scene";
   const RunResult result = run({"bench", "--scene", std::string(HEDRA_SOURCE_DIR) + "/scenes/demo.json", "--method",

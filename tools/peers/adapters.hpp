@@ -3,6 +3,7 @@
 
 #include <memory>
 
+#include "continuous.hpp"
 #include "peers.hpp"
 
 namespace hedra::peers::detail {
@@ -19,5 +20,15 @@ std::unique_ptr<PreparedPair> prepare_bullet_f64_signed(const PeerPair& pair);
 
 // A prepared pair whose every query answers "unsupported: <why>".
 std::unique_ptr<PreparedPair> unsupported(const char* why);
+
+// Times of impact (continuous.hpp).
+std::unique_ptr<PreparedSweep> prepare_bullet_f64_gjk_cast(const SweepPair& pair);
+std::unique_ptr<PreparedSweep> prepare_bullet_f64_subsimplex(const SweepPair& pair);
+std::unique_ptr<PreparedSweep> prepare_bullet_f64_continuous(const SweepPair& pair);
+std::unique_ptr<PreparedSweep> prepare_bullet_f32_continuous(const SweepPair& pair);
+std::unique_ptr<PreparedSweep> prepare_fcl_naive_trans(const SweepPair& pair);
+std::unique_ptr<PreparedSweep> prepare_fcl_ca_trans(const SweepPair& pair);
+std::unique_ptr<PreparedSweep> prepare_fcl_ca_linear(const SweepPair& pair);
+std::unique_ptr<PreparedSweep> unsupported_sweep(const char* why);
 
 }  // namespace hedra::peers::detail

@@ -21,6 +21,9 @@ struct Module {
   HedraBulletPrepare prepare = nullptr;
   HedraBulletQuery query = nullptr;
   HedraBulletRelease release = nullptr;
+  HedraBulletToiPrepare toi_prepare = nullptr;
+  HedraBulletToiQuery toi_query = nullptr;
+  HedraBulletToiRelease toi_release = nullptr;
   std::string error;
 };
 
@@ -37,7 +40,11 @@ Module load(const char* env_name, const char* built_path) {
   m.prepare = reinterpret_cast<HedraBulletPrepare>(::dlsym(handle, "hedra_bullet_prepare"));
   m.query = reinterpret_cast<HedraBulletQuery>(::dlsym(handle, "hedra_bullet_query"));
   m.release = reinterpret_cast<HedraBulletRelease>(::dlsym(handle, "hedra_bullet_release"));
-  if (!m.prepare || !m.query || !m.release) m.error = std::string("unsupported: incomplete Bullet module ") + path;
+  m.toi_prepare = reinterpret_cast<HedraBulletToiPrepare>(::dlsym(handle, "hedra_bullet_toi_prepare"));
+  m.toi_query = reinterpret_cast<HedraBulletToiQuery>(::dlsym(handle, "hedra_bullet_toi_query"));
+  m.toi_release = reinterpret_cast<HedraBulletToiRelease>(::dlsym(handle, "hedra_bullet_toi_release"));
+  if (!m.prepare || !m.query || !m.release || !m.toi_prepare || !m.toi_query || !m.toi_release)
+    m.error = std::string("unsupported: incomplete Bullet module ") + path;
   return m;  // the handle stays open for the life of the process
 }
 
@@ -48,7 +55,10 @@ const Module& module(bool double_precision) {
 }
 
 // The description of one shape; `points` keeps a hull's vertices alive.
-HedraBulletShape describe(const collision::Shape& shape, const collision::Pose& pose, std::vector<double>& points) {
+// With `about_origin`, a hull's vertices are given relative to the shape's
+// origin (not its centroid), so that a sweep rotates it about that origin.
+HedraBulletShape describe(const collision::Shape& shape, const collision::Pose& pose, std::vector<double>& points,
+                          bool about_origin = false) {
   HedraBulletShape s{};
   Eigen::Vector3d origin = pose.translation;
   std::visit(
@@ -75,8 +85,12 @@ HedraBulletShape describe(const collision::Shape& shape, const collision::Pose& 
           s.half_length = x.half_length;
         } else {
           s.kind = hedra_bullet_hull;
-          for (const Eigen::Vector3d& v : x.hull->vertices()) points.insert(points.end(), {v.x(), v.y(), v.z()});
-          origin = pose.apply(x.hull->offset());
+          const Eigen::Vector3d shift = about_origin ? x.hull->offset() : Eigen::Vector3d::Zero();
+          for (const Eigen::Vector3d& v : x.hull->vertices()) {
+            const Eigen::Vector3d p = v + shift;
+            points.insert(points.end(), {p.x(), p.y(), p.z()});
+          }
+          if (!about_origin) origin = pose.apply(x.hull->offset());
         }
       },
       shape);
@@ -125,9 +139,53 @@ std::unique_ptr<PreparedPair> prepare(const PeerPair& pair, bool double_precisio
   return std::make_unique<BulletPrepared>(m, m.prepare(&a, &b, method));
 }
 
+// Time of impact (continuous.hpp).
+class BulletToiPrepared final : public PreparedSweep {
+ public:
+  BulletToiPrepared(const Module& m, void* handle) : module_(m), handle_(handle) {}
+  ~BulletToiPrepared() override { module_.toi_release(handle_); }
+  BulletToiPrepared(const BulletToiPrepared&) = delete;
+  BulletToiPrepared& operator=(const BulletToiPrepared&) = delete;
+
+  ToiPeerResult query() override {
+    HedraBulletToiResult out{};
+    module_.toi_query(handle_, &out);
+    ToiPeerResult r;
+    r.supported = true;
+    r.ok = out.ok != 0;
+    r.hit = out.hit != 0;
+    r.fraction = out.fraction;
+    r.status.assign(out.status);
+    return r;
+  }
+
+ private:
+  const Module& module_;
+  void* handle_;
+};
+
+bool rotates(const collision::Sweep& s) { return !s.start.rotation.isApprox(s.end.rotation, 0.0); }
+
+std::unique_ptr<PreparedSweep> prepare_toi(const SweepPair& pair, bool double_precision, int method) {
+  const Module& m = module(double_precision);
+  if (!m.error.empty()) return detail::unsupported_sweep(m.error.c_str());
+  if (method < 2 && (rotates(pair.sweep_a) || rotates(pair.sweep_b)))
+    return detail::unsupported_sweep("unsupported: a linear cast ignores rotation");
+  std::vector<double> pa, pb, pa1, pb1;
+  const HedraBulletShape a = describe(pair.a, pair.sweep_a.start, pa, true);
+  const HedraBulletShape a1 = describe(pair.a, pair.sweep_a.end, pa1, true);
+  const HedraBulletShape b = describe(pair.b, pair.sweep_b.start, pb, true);
+  const HedraBulletShape b1 = describe(pair.b, pair.sweep_b.end, pb1, true);
+  return std::make_unique<BulletToiPrepared>(m, m.toi_prepare(&a, &a1, &b, &b1, method));
+}
+
 }  // namespace
 
 namespace detail {
+std::unique_ptr<PreparedSweep> prepare_bullet_f64_gjk_cast(const SweepPair& p) { return prepare_toi(p, true, 0); }
+std::unique_ptr<PreparedSweep> prepare_bullet_f64_subsimplex(const SweepPair& p) { return prepare_toi(p, true, 1); }
+std::unique_ptr<PreparedSweep> prepare_bullet_f64_continuous(const SweepPair& p) { return prepare_toi(p, true, 2); }
+std::unique_ptr<PreparedSweep> prepare_bullet_f32_continuous(const SweepPair& p) { return prepare_toi(p, false, 2); }
 std::unique_ptr<PreparedPair> prepare_bullet_f32_gjk_epa(const PeerPair& p) { return prepare(p, false, 0); }
 std::unique_ptr<PreparedPair> prepare_bullet_f64_gjk_epa(const PeerPair& p) { return prepare(p, true, 0); }
 std::unique_ptr<PreparedPair> prepare_bullet_f32_signed(const PeerPair& p) { return prepare(p, false, 1); }

@@ -1,4 +1,5 @@
-// One Bullet 3.24 build behind bullet_module.h (see there). Shapes are
+// One Bullet 3.24 build behind bullet_module.h (see there): distances,
+// contact manifolds and times of impact. Shapes are
 // Bullet's own primitives and btConvexHullShape; every collision margin is
 // set to hedra's margin (0 by default, where Bullet's default is 0.04), and
 // where Bullet keeps the outer size fixed on setMargin (box, cylinder) the
@@ -10,11 +11,14 @@
 // in A's local frame (field-notes.md): it is rotated to world here.
 #include "bullet_module.h"
 
+#include <BulletCollision/NarrowPhaseCollision/btContinuousConvexCollision.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkConvexCast.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpa2.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPolyhedralContactClipping.h>
+#include <BulletCollision/NarrowPhaseCollision/btSubSimplexConvexCast.h>
 #include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
 #include <btBulletCollisionCommon.h>
 
@@ -161,6 +165,28 @@ struct ContactCollector final : btDiscreteCollisionDetectorInterface::Result {
   }
 };
 
+// Time of impact (bullet_module.h): the shapes at the start, both end transforms.
+struct PreparedToi {
+  std::unique_ptr<btConvexShape> a, b;
+  btTransform a0, a1, b0, b1;
+  int method = 2;
+};
+
+bool cast(PreparedToi& p, btConvexCast::CastResult& result) {
+  btVoronoiSimplexSolver simplex;
+  if (p.method == 0) {
+    btGjkConvexCast c(p.a.get(), p.b.get(), &simplex);
+    return c.calcTimeOfImpact(p.a0, p.a1, p.b0, p.b1, result);
+  }
+  if (p.method == 1) {
+    btSubsimplexConvexCast c(p.a.get(), p.b.get(), &simplex);
+    return c.calcTimeOfImpact(p.a0, p.a1, p.b0, p.b1, result);
+  }
+  btGjkEpaPenetrationDepthSolver epa;
+  btContinuousConvexCollision c(p.a.get(), p.b.get(), &simplex, &epa);
+  return c.calcTimeOfImpact(p.a0, p.a1, p.b0, p.b1, result);
+}
+
 const btConvexPolyhedron* polyhedron_of(const btConvexShape* s) {
   return static_cast<const btPolyhedralConvexShape*>(s)->getConvexPolyhedron();
 }
@@ -234,5 +260,33 @@ __attribute__((visibility("default"))) void hedra_bullet_manifold_query(void* pr
 
 __attribute__((visibility("default"))) void hedra_bullet_manifold_release(void* prepared) {
   delete static_cast<PreparedManifold*>(prepared);
+}
+__attribute__((visibility("default"))) void* hedra_bullet_toi_prepare(const HedraBulletShape* a,
+                                                                      const HedraBulletShape* a_end,
+                                                                      const HedraBulletShape* b,
+                                                                      const HedraBulletShape* b_end, int method) {
+  auto* p = new PreparedToi;
+  p->a = make_shape(*a);
+  p->b = make_shape(*b);
+  p->a0 = make_transform(*a);
+  p->a1 = make_transform(*a_end);
+  p->b0 = make_transform(*b);
+  p->b1 = make_transform(*b_end);
+  p->method = method;
+  return p;
+}
+
+__attribute__((visibility("default"))) void hedra_bullet_toi_query(void* prepared, HedraBulletToiResult* out) {
+  *out = HedraBulletToiResult{};
+  btConvexCast::CastResult result;
+  const bool hit = cast(*static_cast<PreparedToi*>(prepared), result);
+  out->hit = hit ? 1 : 0;
+  out->fraction = hit ? static_cast<double>(result.m_fraction) : 1.0;
+  out->ok = std::isfinite(out->fraction) ? 1 : 0;
+  std::snprintf(out->status, sizeof(out->status), "%s", out->ok ? "ok" : "Bullet returned a non-finite fraction");
+}
+
+__attribute__((visibility("default"))) void hedra_bullet_toi_release(void* prepared) {
+  delete static_cast<PreparedToi*>(prepared);
 }
 }

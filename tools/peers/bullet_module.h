@@ -62,4 +62,20 @@ struct HedraBulletContacts {
 typedef void* (*HedraBulletManifoldPrepare)(const HedraBulletShape* a, const HedraBulletShape* b);
 typedef void (*HedraBulletManifoldQuery)(void* prepared, double max_distance, HedraBulletContacts* out);
 typedef void (*HedraBulletManifoldRelease)(void* prepared);
+
+// Time of impact over a step: shapes at their start poses (a, b) and the
+// end poses (rotation and translation of a_end, b_end). method: 0 =
+// btGjkConvexCast, 1 = btSubsimplexConvexCast (both translation only),
+// 2 = btContinuousConvexCollision (btGjkEpaPenetrationDepthSolver; with
+// rotation). `hit` as calcTimeOfImpact returns it; fraction = m_fraction
+// (1 without a hit).
+struct HedraBulletToiResult {
+  int ok, hit;
+  double fraction;
+  char status[160];
+};
+typedef void* (*HedraBulletToiPrepare)(const HedraBulletShape* a, const HedraBulletShape* a_end,
+                                       const HedraBulletShape* b, const HedraBulletShape* b_end, int method);
+typedef void (*HedraBulletToiQuery)(void* prepared, HedraBulletToiResult* out);
+typedef void (*HedraBulletToiRelease)(void* prepared);
 }

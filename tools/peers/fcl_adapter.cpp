@@ -5,6 +5,8 @@
 // (the pose absorbs the hull's offset). FCL has no margins and rejects
 // point, segment and flat hulls: those are "unsupported".
 //
+// Times of impact: fcl::continuousCollide (continuous.hpp).
+//
 // Queries: `distance` is fcl::distance (unsigned; overlapping pairs answer
 // 0); `penetration` is fcl::collide first and its contact (depth, normal
 // "from o1 to o2", position) when it reports a collision, else the signed
@@ -30,7 +32,9 @@ struct Converted {
   const char* unsupported = nullptr;
 };
 
-Converted convert(const collision::Shape& shape, const collision::Pose& pose) {
+// With `about_origin`, a hull's vertices are given relative to the shape's
+// origin (not its centroid), so that a motion rotates it about that origin.
+Converted convert(const collision::Shape& shape, const collision::Pose& pose, bool about_origin = false) {
   Converted c;
   c.transform.linear() = pose.rotation;
   c.transform.translation() = pose.translation;
@@ -58,6 +62,8 @@ Converted convert(const collision::Shape& shape, const collision::Pose& pose) {
             return;
           }
           auto vertices = std::make_shared<std::vector<Eigen::Vector3d>>(hull.vertices());
+          if (about_origin)
+            for (Eigen::Vector3d& v : *vertices) v += hull.offset();
           auto faces = std::make_shared<std::vector<int>>();
           const auto polygons = hull.mesh().polygons();
           for (const auto& polygon : polygons) {
@@ -65,7 +71,7 @@ Converted convert(const collision::Shape& shape, const collision::Pose& pose) {
             for (auto v : polygon) faces->push_back(static_cast<int>(v));
           }
           c.geometry = std::make_shared<fcl::Convexd>(vertices, static_cast<int>(polygons.size()), faces);
-          c.transform.translation() = pose.apply(hull.offset());
+          if (!about_origin) c.transform.translation() = pose.apply(hull.offset());
         }
       },
       shape);
@@ -141,9 +147,69 @@ std::unique_ptr<PreparedPair> prepare(const PeerPair& pair, fcl::GJKSolverType s
   return std::make_unique<FclPrepared>(a, b, solver);
 }
 
+// Time of impact (continuous.hpp): fcl::continuousCollide on the geometries
+// and the four transforms.
+class FclToiPrepared final : public PreparedSweep {
+ public:
+  FclToiPrepared(const Converted& a0, const Converted& a1, const Converted& b0, const Converted& b1,
+                 const fcl::ContinuousCollisionRequestd& request)
+      : a_(a0.geometry), b_(b0.geometry), request_(request) {
+    a_->computeLocalAABB();
+    b_->computeLocalAABB();
+    ta0_ = a0.transform, ta1_ = a1.transform, tb0_ = b0.transform, tb1_ = b1.transform;
+  }
+
+  ToiPeerResult query() override {
+    ToiPeerResult r;
+    r.supported = true;
+    try {
+      fcl::ContinuousCollisionResultd result;
+      fcl::continuousCollide(a_.get(), ta0_, ta1_, b_.get(), tb0_, tb1_, request_, result);
+      r.hit = result.is_collide;
+      r.fraction = r.hit ? result.time_of_contact : 1.0;
+      r.ok = std::isfinite(r.fraction) && r.fraction >= 0.0;
+      r.status = r.ok ? "ok" : "FCL returned no time of contact";
+    } catch (const std::exception& e) {
+      r.status = std::string("FCL threw: ") + e.what();
+    }
+    return r;
+  }
+
+ private:
+  Geometry a_, b_;
+  fcl::Transform3d ta0_, ta1_, tb0_, tb1_;
+  fcl::ContinuousCollisionRequestd request_;
+};
+
+bool rotates(const collision::Sweep& s) { return !s.start.rotation.isApprox(s.end.rotation, 0.0); }
+
+std::unique_ptr<PreparedSweep> prepare_toi(const SweepPair& pair, fcl::CCDMotionType motion,
+                                           fcl::CCDSolverType solver) {
+  if (motion == fcl::CCDM_TRANS && (rotates(pair.sweep_a) || rotates(pair.sweep_b)))
+    return detail::unsupported_sweep("unsupported: a translation motion ignores rotation");
+  const Converted a0 = convert(pair.a, pair.sweep_a.start, true), a1 = convert(pair.a, pair.sweep_a.end, true);
+  const Converted b0 = convert(pair.b, pair.sweep_b.start, true), b1 = convert(pair.b, pair.sweep_b.end, true);
+  if (a0.unsupported) return detail::unsupported_sweep(a0.unsupported);
+  if (b0.unsupported) return detail::unsupported_sweep(b0.unsupported);
+  // FCL's default request (10 iterations, toc_err 1e-4, GST_LIBCCD) with the motion and solver asked.
+  fcl::ContinuousCollisionRequestd request;
+  request.ccd_motion_type = motion;
+  request.ccd_solver_type = solver;
+  return std::make_unique<FclToiPrepared>(a0, a1, b0, b1, request);
+}
+
 }  // namespace
 
 namespace detail {
+std::unique_ptr<PreparedSweep> prepare_fcl_naive_trans(const SweepPair& p) {
+  return prepare_toi(p, fcl::CCDM_TRANS, fcl::CCDC_NAIVE);
+}
+std::unique_ptr<PreparedSweep> prepare_fcl_ca_trans(const SweepPair& p) {
+  return prepare_toi(p, fcl::CCDM_TRANS, fcl::CCDC_CONSERVATIVE_ADVANCEMENT);
+}
+std::unique_ptr<PreparedSweep> prepare_fcl_ca_linear(const SweepPair& p) {
+  return prepare_toi(p, fcl::CCDM_LINEAR, fcl::CCDC_CONSERVATIVE_ADVANCEMENT);
+}
 std::unique_ptr<PreparedPair> prepare_fcl_libccd(const PeerPair& p) { return prepare(p, fcl::GST_LIBCCD); }
 std::unique_ptr<PreparedPair> prepare_fcl_indep(const PeerPair& p) { return prepare(p, fcl::GST_INDEP); }
 }  // namespace detail

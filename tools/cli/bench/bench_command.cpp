@@ -9,6 +9,8 @@
 // /usr/bin/python3 (matplotlib) for the PNG and SVG figures. Progress goes to
 // stderr, the markdown report to stdout. Exit 0 when hedra (every tolerance
 // of the sweep) has no failure, 1 when it has some, 2 for bad input.
+// --continuous runs the sweep families of continuous.hpp instead, through
+// the same steps (no plots).
 #include "cli/bench/bench_command.hpp"
 
 #include <spawn.h>
@@ -28,6 +30,7 @@
 
 #include "cli/atomic_file.hpp"
 #include "cli/bench/bench.hpp"
+#include "cli/bench/continuous.hpp"
 #include "cli/bench/report.hpp"
 #include "cli/cli_validators.hpp"
 #include "scene/scene_runner.hpp"
@@ -42,6 +45,7 @@ namespace fs = std::filesystem;
 
 struct BenchCommandOptions {
   bool quick = false;
+  bool continuous = false;
   std::string out = "bench-results";
   std::uint64_t seed = 1;
   std::vector<std::string> families;
@@ -82,6 +86,7 @@ std::string run_plots(const std::string& python, const std::string& script, cons
 std::string command_text(const BenchCommandOptions& o) {
   std::string line = "hedra bench";
   if (o.quick) line += " --quick";
+  if (o.continuous) line += " --continuous";
   line += " --out " + o.out + " --seed " + std::to_string(o.seed);
   for (const std::string& f : o.families) line += " --family " + f;
   for (const std::string& m : o.methods) line += " --method " + m;
@@ -126,7 +131,87 @@ std::optional<bench::FamilyRun> scene_family(const std::string& path, std::strin
   return run;
 }
 
+// Creates `dir` and opens each output's temporary file there (an unwritable
+// directory fails before minutes of work); nothing when it cannot, said on err.
+std::optional<std::vector<AtomicFile>> open_outputs(const std::string& dir, const std::vector<std::string>& names,
+                                                    std::ostream& err) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) {
+    err << "hedra bench: " << dir << ": cannot create the output directory"
+        << (ec ? ": " + ec.message() : std::string()) << "\n";
+    return std::nullopt;
+  }
+  std::vector<AtomicFile> files;
+  for (const std::string& name : names) {
+    std::string error;
+    std::optional<AtomicFile> file = AtomicFile::open((fs::path(dir) / name).string(), error);
+    if (!file) {
+      err << "hedra bench: " << error << "\n";
+      return std::nullopt;
+    }
+    files.push_back(std::move(*file));
+  }
+  return files;
+}
+
+// Writes each file whole; false (said on err) when one cannot be.
+bool commit_outputs(std::vector<AtomicFile>& files, const std::vector<std::string>& contents, std::ostream& err) {
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    std::string error;
+    if (!files[k].commit(contents[k], error)) {
+      err << "hedra bench: " << error << "\n";
+      return false;
+    }
+  }
+  return true;
+}
+
+// Whether every name is in `known`; otherwise says which is not.
+bool all_known(const std::vector<std::string>& names, const std::vector<std::string>& known, const char* option,
+               std::ostream& err) {
+  for (const std::string& name : names) {
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    err << "hedra bench --continuous: " << option << ": unknown name '" << name << "' (available: " << list << ")\n";
+    return false;
+  }
+  return true;
+}
+
+// --continuous: the sweep families (continuous.hpp) into continuous.csv and
+// continuous.md; the table to stdout. Exit 1 when hedra tunnels, reports a
+// false hit or fails.
+int run_continuous_command(const BenchCommandOptions& options, std::string& out, std::ostream& err) {
+  if (!all_known(options.families, bench::continuous_family_names(), "--family", err) ||
+      !all_known(options.methods, bench::continuous_method_names(), "--method", err))
+    return kExitBadInput;
+  std::optional<std::vector<AtomicFile>> files = open_outputs(options.out, {"continuous.csv", "continuous.md"}, err);
+  if (!files) return kExitBadInput;
+  bench::ContinuousOptions co;
+  co.seed = options.seed;
+  co.quick = options.quick;
+  co.families = options.families;
+  co.methods = options.methods;
+  co.peer_timeout_seconds = options.peer_timeout;
+  co.loops = options.loops > 0 ? options.loops : (options.quick ? 3 : 7);
+  const std::string date = bench::utc_now(), load_before = bench::load_average();
+  const bench::ContinuousReport report = bench::run_continuous(co, err);
+  const std::string header = "# hedra bench --continuous\n\n- command: `" + options.command_line +
+                             "`\n- date: " + date + "\n- machine: " + bench::machine_description() +
+                             "\n- load: " + load_before + " -> " + bench::load_average() + "\n\n";
+  const std::string md = bench::continuous_markdown(report, header);
+  if (!commit_outputs(*files, {bench::continuous_csv(report), md}, err)) return kExitBadInput;
+  out = md;
+  const int problems = bench::continuous_hedra_problems(report);
+  err << "bench: " << options.out
+      << ": continuous.csv, continuous.md; hedra tunnelled, false hits or failures: " << problems << "\n";
+  return problems == 0 ? kExitOk : kExitCheckFailed;
+}
+
 int run_bench_command(const BenchCommandOptions& options, std::string& out, std::ostream& err) {
+  if (options.continuous) return run_continuous_command(options, out, err);
   bench::BenchOptions bo;
   bo.workload.seed = options.seed;
   bo.workload.quick = options.quick;
@@ -181,24 +266,9 @@ int run_bench_command(const BenchCommandOptions& options, std::string& out, std:
     }
   }
 
-  std::error_code ec;
-  fs::create_directories(options.out, ec);
-  if (ec || !fs::is_directory(options.out)) {
-    err << "hedra bench: " << options.out << ": cannot create the output directory"
-        << (ec ? ": " + ec.message() : std::string()) << "\n";
-    return kExitBadInput;
-  }
-  const std::vector<std::string> names = {"summary.csv", "cases.csv", "stability.csv", "report.md", "plot_bench.py"};
-  std::vector<AtomicFile> files;
-  for (const std::string& name : names) {
-    std::string error;
-    std::optional<AtomicFile> file = AtomicFile::open((fs::path(options.out) / name).string(), error);
-    if (!file) {
-      err << "hedra bench: " << error << "\n";
-      return kExitBadInput;
-    }
-    files.push_back(std::move(*file));
-  }
+  std::optional<std::vector<AtomicFile>> files =
+      open_outputs(options.out, {"summary.csv", "cases.csv", "stability.csv", "report.md", "plot_bench.py"}, err);
+  if (!files) return kExitBadInput;
 
   bench::RunInfo info;
   info.command = options.command_line;
@@ -220,15 +290,11 @@ int run_bench_command(const BenchCommandOptions& options, std::string& out, std:
   info.load_after = bench::load_average();
 
   const std::string md = bench::markdown_report(report, info);
-  const std::vector<std::string> contents = {bench::summary_csv(report), bench::cases_csv(report),
-                                             bench::stability_csv(report), md, std::string(bench::plot_script())};
-  for (std::size_t k = 0; k < files.size(); ++k) {
-    std::string error;
-    if (!files[k].commit(contents[k], error)) {
-      err << "hedra bench: " << error << "\n";
-      return kExitBadInput;
-    }
-  }
+  if (!commit_outputs(*files,
+                      {bench::summary_csv(report), bench::cases_csv(report), bench::stability_csv(report), md,
+                       std::string(bench::plot_script())},
+                      err))
+    return kExitBadInput;
   if (!options.no_plots) {
     const std::string python = options.python.empty() ? default_python() : options.python;
     const std::string problem = run_plots(python, (fs::path(options.out) / "plot_bench.py").string(), options.out);
@@ -256,6 +322,12 @@ Subcommand add_bench_command(CLI::App& app) {
       "hard cases (or a scene's queries), every answer judged against the exact reference; CSV, markdown and plots "
       "(exit 1 when hedra has a failure)");
   command->add_flag("--quick", options->quick, "A few cases per family (under a minute; the test suite's run)");
+  command->add_flag(
+      "--continuous", options->continuous,
+      "Times of impact instead: sweep families (toi-thin-plate, toi-grazing, toi-rotating-bar, "
+      "toi-initial-contact, toi-small-large, toi-far) with hedra_toi, hedra_shape_cast and the continuous "
+      "peers (bullet_f64_continuous, fcl_ca_linear, ...), judged against the exact first contact; "
+      "continuous.csv and continuous.md");
   command->add_option("--out", options->out, "Output directory (created if missing; default bench-results)")
       ->type_name("DIR");
   command->add_option("--seed", options->seed, "Seed of the generated cases (default 1)")->type_name("N");
