@@ -1,5 +1,6 @@
-// Fuzz target: intersect / distance / penetration / contact on arbitrary
-// shapes and poses.
+// Fuzz target: intersect / distance / penetration / contact, and the
+// continuous queries (raycast, shape_cast, time_of_impact), on arbitrary
+// shapes, poses and motions.
 //
 // The bytes choose two shapes (sphere, box, capsule, cylinder, cone or a hull
 // of up to 12 points, each with a margin), their sizes (sometimes negative,
@@ -18,15 +19,31 @@
 //     and penetration() both answer ok, it says intersecting when the pair
 //     is deeper than the face bias of manifold.hpp, and a separation it
 //     reports is at most the signed distance plus that bias.
+// The continuous queries (bytes read after all of the above, so older inputs
+// decode to the same pair; when they run dry, A sweeps through B's centre
+// and a ray goes from A's origin through B's): a ray against B, A cast
+// against B, and A swept with rotation against B. Checked:
+//   - every output is finite and the status one of the enum's; invalid
+//     input exactly when an input is out of range;
+//   - the fraction lies in [0, max_fraction] (casts: [0, 1]);
+//   - never late: at sampled fractions before the reported one (and at the
+//     end for a miss) penetration() never certifies the pair (the ray's
+//     point) within the target by more than the tolerance;
+//   - a hit: the signed distance at the fraction is within the tolerance
+//     plus the query's and penetration()'s error bounds of the target.
 // The tolerance is 1e-9 of the pair's size plus the rounding of its world
-// coordinates (64 eps of the largest coordinate).
+// coordinates (64 eps of the largest coordinate, motions included).
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <hedra/collision/cast.hpp>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
+#include <hedra/collision/raycast.hpp>
+#include <hedra/collision/time_of_impact.hpp>
 #include <limits>
 #include <variant>
 #include <vector>
@@ -158,6 +175,197 @@ void check_geometry(const Result& r, double tol, const char* what) {
   }
 }
 
+// ---- continuous queries ------------------------------------------------------
+
+using hedra::collision::CastResult;
+using hedra::collision::CastStatus;
+
+// The motions of the continuous queries, decoded after every other byte.
+struct Motion {
+  Vec move_a = Vec::Zero(), move_b = Vec::Zero();  // translations over the step
+  Vec axis = Vec::UnitZ();                         // A's turn over the step (time_of_impact)
+  double angle = 0.0;
+  Vec ray_origin = Vec::Zero(), ray_direction = Vec::Zero();
+  double max_fraction = 1.0;
+  double target_distance = 0.0, linear_slop = 0.0;
+};
+
+Motion make_motion(hedra::fuzz::FuzzInput& in, const Pose& pose_a, const Pose& pose_b, double size) {
+  Motion m;
+  const double scale = std::pow(10.0, static_cast<int>(in.byte() % 9) - 4);
+  m.move_a = Vec{in.finite_double(8.0), in.finite_double(8.0), in.finite_double(8.0)} * scale;
+  m.move_b = Vec{in.finite_double(8.0), in.finite_double(8.0), in.finite_double(8.0)} * scale;
+  const Vec through = pose_b.translation - pose_a.translation;
+  if (m.move_a.isZero(0.0) && m.move_b.isZero(0.0)) m.move_a = 2.0 * through;  // A sweeps through B
+  m.angle = in.finite_double(4.0);
+  Vec axis{in.finite_double(1.0), in.finite_double(1.0), in.finite_double(1.0)};
+  const double largest = axis.cwiseAbs().maxCoeff();  // (scaled first, as for the coaxial turn)
+  if (largest > 0.0) m.axis = Vec(axis / largest).normalized();
+  m.ray_origin = pose_a.translation;
+  m.ray_direction = 2.0 * through + Vec{in.finite_double(8.0), in.finite_double(8.0), in.finite_double(8.0)} * scale;
+  switch (in.byte() % 4) {
+    case 0:
+      break;
+    case 1:
+      m.max_fraction = 0.5;
+      break;
+    case 2:
+      m.max_fraction = 10.0;
+      break;
+    default:
+      m.max_fraction = std::fabs(in.finite_double(1e3));
+  }
+  const std::uint8_t target = in.byte();
+  if (std::isfinite(size)) {
+    if (target & 1) m.target_distance = 1e-2 * size;
+    if (target & 2) m.linear_slop = 1e-3 * size;
+  }
+  return m;
+}
+
+bool within(const Vec& x) { return x.allFinite() && x.cwiseAbs().maxCoeff() <= hedra::collision::max_coordinate; }
+
+bool status_known(CastStatus s) {
+  switch (s) {
+    case CastStatus::hit:
+    case CastStatus::separated:
+    case CastStatus::initially_overlapping:
+    case CastStatus::max_iterations:
+    case CastStatus::stalled:
+    case CastStatus::degenerate:
+    case CastStatus::invalid_input:
+      return true;
+  }
+  return false;
+}
+
+// The signed distance of the pair (or a point: a sphere of radius 0) as an
+// interval; empty (lower > upper) when penetration() gives no verdict.
+struct Signed {
+  double lower = 1.0, upper = 0.0;
+};
+Signed signed_distance(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
+  const hedra::collision::PenetrationResult p = penetration(a, pose_a, b, pose_b);
+  if (p.status != Status::ok) return {};
+  return {p.distance - p.error_bound, p.distance + p.error_bound};
+}
+
+// What every continuous answer keeps, given the signed distance at a
+// fraction (`at`), the target and the tolerance: never late, a hit at the
+// target, a start within it. `what` names the query.
+template <class At>
+void check_timeline(const char* what, CastStatus status, double fraction, double max_fraction, double error_bound,
+                    double target, double tol, const At& at) {
+  HEDRA_FUZZ_CHECK(fraction >= 0.0 && fraction <= max_fraction, "%s: fraction %.17g outside [0, %.17g] (%s)", what,
+                   fraction, max_fraction, to_string(status));
+  if (status == CastStatus::initially_overlapping) {
+    HEDRA_FUZZ_CHECK(fraction == 0.0, "%s: started within the target at fraction %.17g", what, fraction);
+    const Signed d = at(0.0);
+    HEDRA_FUZZ_CHECK(d.lower > d.upper || d.lower <= target + tol,
+                     "%s: starts within the target %.17g but the distance is >= %.17g (tol %.3g)", what, target,
+                     d.lower, tol);
+    return;
+  }
+  if (status == CastStatus::degenerate || status == CastStatus::invalid_input) return;
+  // Safe: no contact before `fraction` (nor at it, nor anywhere on a miss).
+  for (const double s : {0.0, 0.5, 0.9, 0.999, 1.0}) {
+    const Signed d = at(s * fraction);
+    HEDRA_FUZZ_CHECK(d.lower > d.upper || d.upper >= target - tol,
+                     "%s: late: at %.17g (reported %.17g, %s) the distance is <= %.17g, target %.17g (tol %.3g)", what,
+                     s * fraction, fraction, to_string(status), d.upper, target, tol);
+  }
+  if (status == CastStatus::separated) {
+    HEDRA_FUZZ_CHECK(fraction == max_fraction, "%s: a miss at %.17g, not %.17g", what, fraction, max_fraction);
+  }
+  if (status == CastStatus::hit) {
+    const Signed d = at(fraction);
+    HEDRA_FUZZ_CHECK(d.lower > d.upper || d.lower <= target + error_bound + tol,
+                     "%s: a hit at %.17g where the distance is >= %.17g, target %.17g (bound %.3g, tol %.3g)", what,
+                     fraction, d.lower, target, error_bound, tol);
+  }
+}
+
+void check_cast_fields(const CastResult& r, const char* what) {
+  HEDRA_FUZZ_CHECK(status_known(r.status), "%s: unknown status %d", what, static_cast<int>(r.status));
+  HEDRA_FUZZ_CHECK(std::isfinite(r.fraction) && std::isfinite(r.distance) && std::isfinite(r.error_bound) &&
+                       r.error_bound >= 0.0 && finite(r.normal) && finite(r.point_a) && finite(r.point_b),
+                   "%s: non-finite output (status %s)", what, to_string(r.status));
+  HEDRA_FUZZ_CHECK(r.hit == (r.status == CastStatus::hit || r.status == CastStatus::initially_overlapping) &&
+                       r.initially_overlapping == (r.status == CastStatus::initially_overlapping),
+                   "%s: flags disagree with the status %s", what, to_string(r.status));
+  if (r.status == CastStatus::hit) {
+    HEDRA_FUZZ_CHECK(std::fabs(r.normal.norm() - 1.0) < 1e-9, "%s: normal of length %.17g", what, r.normal.norm());
+  }
+}
+
+void check_raycast(const Shape& b, const Pose& pose_b, const Motion& m, double coordinates) {
+  const hedra::collision::RaycastResult r = raycast(b, pose_b, m.ray_origin, m.ray_direction, m.max_fraction);
+  if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
+    std::fprintf(stderr, "raycast %s at %.17g\n", to_string(r.status), r.fraction);
+  }
+  HEDRA_FUZZ_CHECK(status_known(r.status), "raycast: unknown status %d", static_cast<int>(r.status));
+  HEDRA_FUZZ_CHECK(std::isfinite(r.fraction) && std::isfinite(r.error_bound) && r.error_bound >= 0.0 &&
+                       finite(r.point) && finite(r.normal),
+                   "raycast: non-finite output (status %s)", to_string(r.status));
+  const double size = bounding_radius(b);
+  const bool valid = validate(b).ok() && pose_b.valid() && within(m.ray_origin) && within(m.ray_direction) &&
+                     within(m.max_fraction * m.ray_direction) &&
+                     (size == 0.0 || size >= hedra::collision::min_pair_extent);
+  HEDRA_FUZZ_CHECK(valid == (r.status != CastStatus::invalid_input), "raycast: %s for %s input", to_string(r.status),
+                   valid ? "valid" : "invalid");
+  if (!valid) return;
+  HEDRA_FUZZ_CHECK(r.hit == (r.status == CastStatus::hit || r.status == CastStatus::initially_overlapping) &&
+                       r.started_inside == (r.status == CastStatus::initially_overlapping),
+                   "raycast: flags disagree with the status %s", to_string(r.status));
+  const double reach = m.ray_origin.norm() + (m.max_fraction * m.ray_direction).norm();
+  const double tol = 1e-9 * size + 64.0 * std::numeric_limits<double>::epsilon() * std::max(coordinates, reach);
+  const hedra::collision::Sphere point{0.0, 0.0};
+  check_timeline("raycast", r.status, r.fraction, m.max_fraction, r.error_bound, 0.0, tol, [&](double t) {
+    return signed_distance(b, pose_b, point, Pose::from_translation(m.ray_origin + t * m.ray_direction));
+  });
+}
+
+void check_casts(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, const Motion& m, bool valid,
+                 double size, double coordinates) {
+  hedra::collision::ShapeCastSettings cast_settings;
+  cast_settings.target_distance = m.target_distance;
+  cast_settings.linear_slop = m.linear_slop;
+  const CastResult cast = shape_cast(a, pose_a, m.move_a, b, pose_b, m.move_b, cast_settings);
+  const hedra::collision::Sweep sweep_a{
+      pose_a, {Eigen::AngleAxisd(m.angle, m.axis).toRotationMatrix() * pose_a.rotation, pose_a.translation + m.move_a}};
+  const hedra::collision::Sweep sweep_b{pose_b, {pose_b.rotation, pose_b.translation + m.move_b}};
+  hedra::collision::ToiSettings toi_settings;
+  toi_settings.target_distance = m.target_distance;
+  toi_settings.linear_slop = m.linear_slop;
+  const CastResult toi = time_of_impact(a, sweep_a, b, sweep_b, toi_settings);
+  if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
+    std::fprintf(stderr, "shape_cast %s at %.17g, time_of_impact %s at %.17g (%d steps)\n", to_string(cast.status),
+                 cast.fraction, to_string(toi.status), toi.fraction, toi.iterations);
+  }
+  check_cast_fields(cast, "shape_cast");
+  check_cast_fields(toi, "time_of_impact");
+  const bool cast_valid = valid && within(m.move_a) && within(m.move_b);
+  const bool toi_valid = valid && sweep_a.end.valid() && sweep_b.end.valid();
+  HEDRA_FUZZ_CHECK(cast_valid == (cast.status != CastStatus::invalid_input), "shape_cast: %s for %s input",
+                   to_string(cast.status), cast_valid ? "valid" : "invalid");
+  HEDRA_FUZZ_CHECK(toi_valid == (toi.status != CastStatus::invalid_input), "time_of_impact: %s for %s input",
+                   to_string(toi.status), toi_valid ? "valid" : "invalid");
+  const double motion = std::max(m.move_a.norm(), m.move_b.norm());
+  const double tol = 1e-9 * size + 64.0 * std::numeric_limits<double>::epsilon() * (coordinates + motion);
+  const double target = m.target_distance + m.linear_slop;
+  if (cast_valid) {
+    check_timeline("shape_cast", cast.status, cast.fraction, 1.0, cast.error_bound, target, tol, [&](double t) {
+      return signed_distance(a, Pose{pose_a.rotation, pose_a.translation + t * m.move_a}, b,
+                             Pose{pose_b.rotation, pose_b.translation + t * m.move_b});
+    });
+  }
+  if (toi_valid) {
+    check_timeline("time_of_impact", toi.status, toi.fraction, 1.0, toi.error_bound, target, tol, [&](double t) {
+      return signed_distance(a, hedra::collision::pose_at(sweep_a, t), b, hedra::collision::pose_at(sweep_b, t));
+    });
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -184,9 +392,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     pose_b.rotation = pose_a.rotation * Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
     if (coaxial & 4) pose_b.rotation = pose_b.rotation * Eigen::AngleAxisd(M_PI, Vec::UnitX()).toRotationMatrix();
   }
+  // The continuous queries' motions: after every byte above.
+  const double larger = std::max(bounding_radius(a), bounding_radius(b));
+  const Motion motion = make_motion(in, pose_a, pose_b, larger);
   if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
     describe("a", a, pose_a);
     describe("b", b, pose_b);
+    std::fprintf(stderr,
+                 "move_a=(%.17g, %.17g, %.17g) move_b=(%.17g, %.17g, %.17g) turn %.17g about (%.17g, %.17g, %.17g)\n"
+                 "ray (%.17g, %.17g, %.17g) + t (%.17g, %.17g, %.17g), t <= %.17g; target %.17g + %.17g\n",
+                 motion.move_a.x(), motion.move_a.y(), motion.move_a.z(), motion.move_b.x(), motion.move_b.y(),
+                 motion.move_b.z(), motion.angle, motion.axis.x(), motion.axis.y(), motion.axis.z(),
+                 motion.ray_origin.x(), motion.ray_origin.y(), motion.ray_origin.z(), motion.ray_direction.x(),
+                 motion.ray_direction.y(), motion.ray_direction.z(), motion.max_fraction, motion.target_distance,
+                 motion.linear_slop);
   }
   bool valid = validate(a).ok() && validate(b).ok() && pose_a.valid() && pose_b.valid();
   if (valid) {
@@ -236,13 +455,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                          p_ab.status != Status::invalid_input && c_ab.status != Status::invalid_input,
                      "valid input called invalid");
   }
-  if (!valid) {
-    check_geometry(d_ab, 0.0, "distance(a,b)");
-    check_geometry(p_ab, 0.0, "penetration(a,b)");
-    return 0;
-  }
-
-  const double size_scale = std::max(bounding_radius(a), bounding_radius(b));
   // How far from the world origin the shapes reach (a polyhedron sits at its
   // offset in its own frame): the world witness points round at that scale.
   auto reach = [](const Shape& s, const Pose& pose) {
@@ -250,6 +462,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (const auto* poly = std::get_if<hedra::collision::Polyhedron>(&s)) offset = poly->hull->offset().norm();
     return pose.translation.norm() + offset + bounding_radius(s);
   };
+  check_raycast(b, pose_b, motion, reach(b, pose_b));
+  check_casts(a, pose_a, b, pose_b, motion, valid, larger, std::max(reach(a, pose_a), reach(b, pose_b)));
+  if (!valid) {
+    check_geometry(d_ab, 0.0, "distance(a,b)");
+    check_geometry(p_ab, 0.0, "penetration(a,b)");
+    return 0;
+  }
+
+  const double size_scale = std::max(bounding_radius(a), bounding_radius(b));
   const double coordinates = std::max(reach(a, pose_a), reach(b, pose_b));
   const double tol = 1e-9 * size_scale + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
 
