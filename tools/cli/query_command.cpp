@@ -157,12 +157,17 @@ std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcom
     if (is_continuous(q.type)) {
       // Continuous: "hit" and the fraction, the cast's distance, its
       // iterations in the gjk column.
-      const std::string at = "t=" + shortest(o.fraction) + (q.type == QueryType::raycast ? "" : " d=" + distance);
+      char at[64];
+      if (q.type == QueryType::raycast) {
+        std::snprintf(at, sizeof at, "t=%.10g", o.fraction);
+      } else {
+        std::snprintf(at, sizeof at, "t=%.10g d=%.6g", o.fraction, o.distance.value_or(0.0));
+      }
       std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-5s %-22s %-32s %4d %4s %10s\n", i,
                     scene.bodies[q.a].name.c_str(),
                     q.type == QueryType::raycast ? "(ray)" : scene.bodies[q.b].name.c_str(), to_string(q.type),
-                    o.status.c_str(), o.hit ? "yes" : "no", at.c_str(), format_vector(o.normal).c_str(),
-                    o.cast_iterations, "-", format_time(o.time_ns).c_str());
+                    o.status.c_str(), o.hit ? "yes" : "no", at, format_vector(o.normal).c_str(), o.cast_iterations, "-",
+                    format_time(o.time_ns).c_str());
       text += line;
       continue;
     }
