@@ -585,10 +585,13 @@ TEST(ViewCli, ScenePageHoldsEveryBodyAndQuery) {
 const std::string kBarScene = std::string(HEDRA_SOURCE_DIR) + "/scenes/continuous/rotating_bar.json";
 const std::string kRayScene = std::string(HEDRA_SOURCE_DIR) + "/scenes/continuous/ray_box.json";
 
-nlohmann::json page_data_of(const std::string& html) {
+// The model's JSON as the page carries it.
+nlohmann::json page_data(const std::string& html) {
   const std::string open = "id=\"hedra-data\">";
-  const std::size_t begin = html.find(open) + open.size();
-  return nlohmann::json::parse(html.substr(begin, html.find("</script>", begin) - begin));
+  const std::size_t begin = html.find(open);
+  if (begin == std::string::npos) return nullptr;
+  const std::size_t end = html.find("</script>", begin);
+  return nlohmann::json::parse(html.substr(begin + open.size(), end - begin - open.size()), nullptr, false);
 }
 
 double lowest_z(const nlohmann::json& mesh) {
@@ -603,7 +606,7 @@ TEST(ViewCli, ContinuousScenePageHoldsTheThreePoses) {
   const fs::path page = dir.path() / "bar.html";
   const RunResult result = run({HEDRA_EXE, "view", kBarScene, "-o", page.string()}, dir.path());
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  const nlohmann::json data = page_data_of(slurp(page));
+  const nlohmann::json data = page_data(slurp(page));
   ASSERT_EQ(data["queries"].size(), 4u);
   // The slow bar lands on the posts at t = 0.3625: its bottom (centre z
   // 2 - 4 t, half height 0.05) is at z = 0.5 there, 1.95 at the start and
@@ -626,7 +629,7 @@ TEST(ViewCli, ContinuousScenePageHoldsTheThreePoses) {
 
   const fs::path ray_page = dir.path() / "ray.html";
   ASSERT_EQ(run({HEDRA_EXE, "view", kRayScene, "-o", ray_page.string()}, dir.path()).exit_code, 0);
-  const nlohmann::json rays = page_data_of(slurp(ray_page));
+  const nlohmann::json rays = page_data(slurp(ray_page));
   ASSERT_EQ(rays["queries"].size(), 4u);
   const nlohmann::json& ray = rays["queries"][0]["ray"];
   ASSERT_TRUE(ray.is_object());
@@ -637,15 +640,6 @@ TEST(ViewCli, ContinuousScenePageHoldsTheThreePoses) {
 }
 
 // ---- in a browser ---------------------------------------------------------------
-
-// The model's JSON as the page carries it.
-nlohmann::json page_data(const std::string& html) {
-  const std::string open = "id=\"hedra-data\">";
-  const std::size_t begin = html.find(open);
-  if (begin == std::string::npos) return nullptr;
-  const std::size_t end = html.find("</script>", begin);
-  return nlohmann::json::parse(html.substr(begin + open.size(), end - begin - open.size()), nullptr, false);
-}
 
 constexpr int kSkip = 77;
 
