@@ -5,10 +5,12 @@
 //   * the HTML page: self-contained (no external script or style), names
 //     cannot break out of the data block, absent values are null;
 //   * the command: `hedra view --hull` writes a page, errors exit 2 and leave
-//     nothing behind;
-//   * in a browser: the --hull page of tools/cli/data/demo_points.xyz and a
+//     nothing behind; a continuous scene's page holds each moving body at its
+//     start, its end and the time of impact, and each ray with its hit;
+//   * in a browser: the --hull page of tools/cli/data/demo_points.xyz, a
 //     synthetic scene (bodies of every shape kind, queries answered by
-//     hedra::collision) open in headless Chromium without JavaScript errors,
+//     hedra::collision) and two continuous scenes (a turning bar's toi, rays)
+//     open in headless Chromium without JavaScript errors,
 //     report ready, and draw a viewport that is not blank
 //     (view_browser_check.py). Skipped when Chromium is not installed; a
 //     page that draws nothing and throws must fail the same check.
@@ -20,6 +22,7 @@
 #include <unistd.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -576,7 +579,11 @@ TEST(ViewCli, ScenePageHoldsEveryBodyAndQuery) {
   }
 }
 
-// ---- in a browser ---------------------------------------------------------------
+// A continuous scene's page: each moving body of a toi query in its three
+// poses (start, end, the time of impact), placed where the motion puts it,
+// and each ray with its hit point.
+const std::string kBarScene = std::string(HEDRA_SOURCE_DIR) + "/scenes/continuous/rotating_bar.json";
+const std::string kRayScene = std::string(HEDRA_SOURCE_DIR) + "/scenes/continuous/ray_box.json";
 
 // The model's JSON as the page carries it.
 nlohmann::json page_data(const std::string& html) {
@@ -586,6 +593,53 @@ nlohmann::json page_data(const std::string& html) {
   const std::size_t end = html.find("</script>", begin);
   return nlohmann::json::parse(html.substr(begin + open.size(), end - begin - open.size()), nullptr, false);
 }
+
+double lowest_z(const nlohmann::json& mesh) {
+  double z = INFINITY;
+  for (const nlohmann::json& v : mesh["vertices"]) z = std::min(z, v[2].get<double>());
+  return z;
+}
+
+TEST(ViewCli, ContinuousScenePageHoldsTheThreePoses) {
+  if (!tool::view::three_js_available()) GTEST_SKIP() << tool::view::three_js_missing_message();
+  ScratchDir dir;
+  const fs::path page = dir.path() / "bar.html";
+  const RunResult result = run({HEDRA_EXE, "view", kBarScene, "-o", page.string()}, dir.path());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json data = page_data(slurp(page));
+  ASSERT_EQ(data["queries"].size(), 4u);
+  // The slow bar lands on the posts at t = 0.3625: its bottom (centre z
+  // 2 - 4 t, half height 0.05) is at z = 0.5 there, 1.95 at the start and
+  // -2.05 at the end (its bottom face stays horizontal as it turns about z).
+  const nlohmann::json& landing = data["queries"][0];
+  EXPECT_EQ(landing["type"], "toi");
+  EXPECT_EQ(landing["hit"], true);
+  ASSERT_EQ(landing["sweeps"].size(), 1u) << "only the bar moves";
+  const nlohmann::json& sweep = landing["sweeps"][0];
+  EXPECT_EQ(sweep["body"], "slow");
+  for (const char* pose : {"start", "end", "at_fraction"}) EXPECT_EQ(sweep[pose]["faces"].size(), 6u) << pose;
+  EXPECT_NEAR(lowest_z(sweep["start"]), 1.95, 1e-12);
+  EXPECT_NEAR(lowest_z(sweep["end"]), -2.05, 1e-12);
+  EXPECT_NEAR(lowest_z(sweep["at_fraction"]), 0.5, 1e-9);
+  const nlohmann::json& passing = data["queries"][2];
+  EXPECT_EQ(passing["hit"], false);
+  ASSERT_EQ(passing["sweeps"].size(), 1u);
+  EXPECT_NEAR(lowest_z(passing["sweeps"][0]["at_fraction"]), -2.05, 1e-12) << "no hit: drawn at the end";
+  EXPECT_TRUE(passing["point_a"].is_null());
+
+  const fs::path ray_page = dir.path() / "ray.html";
+  ASSERT_EQ(run({HEDRA_EXE, "view", kRayScene, "-o", ray_page.string()}, dir.path()).exit_code, 0);
+  const nlohmann::json rays = page_data(slurp(ray_page));
+  ASSERT_EQ(rays["queries"].size(), 4u);
+  const nlohmann::json& ray = rays["queries"][0]["ray"];
+  ASSERT_TRUE(ray.is_object());
+  EXPECT_EQ(ray["origin"], nlohmann::json::array({-3.0, 0.5, 0.25}));
+  EXPECT_EQ(ray["end"], nlohmann::json::array({7.0, 0.5, 0.25}));
+  EXPECT_EQ(ray["hit_point"], nlohmann::json::array({1.0, 0.5, 0.25}));
+  EXPECT_TRUE(rays["queries"][2]["ray"]["hit_point"].is_null()) << "a miss has no hit point";
+}
+
+// ---- in a browser ---------------------------------------------------------------
 
 constexpr int kSkip = 77;
 
@@ -661,6 +715,28 @@ TEST(ViewBrowser, SceneFilePageRendersWithoutErrors) {
                     dir.path(), &output);
   if (code == kSkip) GTEST_SKIP() << output;
   EXPECT_EQ(code, 0) << output;
+}
+
+// A continuous scene: each toi query's moving bar in three poses (12 in
+// all), and a raycast scene's four rays; the first query selected on load.
+TEST(ViewBrowser, ContinuousScenePagesRenderWithoutErrors) {
+  if (!tool::view::three_js_available()) GTEST_SKIP() << tool::view::three_js_missing_message();
+  ScratchDir dir;
+  const std::vector<std::pair<std::string, std::vector<std::string>>> pages = {
+      {kBarScene, {"--expect=queries=4", "--expect=sweep-poses=12", "--expect=rays=0"}},
+      {kRayScene, {"--expect=queries=4", "--expect=sweep-poses=0", "--expect=rays=4"}}};
+  for (const auto& [scene, expectations] : pages) {
+    const fs::path page = dir.path() / (fs::path(scene).stem().string() + ".html");
+    const RunResult written = run({HEDRA_EXE, "view", scene, "-o", page.string()}, dir.path());
+    ASSERT_EQ(written.exit_code, 0) << written.err;
+    std::vector<std::string> options = expectations;
+    options.push_back("--fragment=#query=0");
+    options.push_back("--expect=selected-query=0");
+    std::string output;
+    const int code = browser_check(page, options, dir.path(), &output);
+    if (code == kSkip) GTEST_SKIP() << output;
+    EXPECT_EQ(code, 0) << scene << ": " << output;
+  }
 }
 
 TEST(ViewBrowser, CheckerRejectsABlankPageThatThrows) {

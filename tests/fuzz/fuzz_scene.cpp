@@ -5,7 +5,8 @@
 // and either gives a scene or a message that names the file; a parsed scene
 // either builds its shapes or says why (naming the file); every query of a
 // built scene runs (at most 8, so one input stays fast) and every number it
-// reports is finite. Mesh files resolve relative to a directory that holds
+// reports is finite (a continuous query's fraction too, and >= 0, and its
+// default fraction tolerance is a number >= 0). Mesh files resolve relative to a directory that holds
 // none, so a "file" shape exercises the unreadable-file path.
 #include <cmath>
 #include <cstdint>
@@ -51,6 +52,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     HEDRA_FUZZ_CHECK(finite_opt(out.distance) && finite_opt(out.normal) && finite_opt(out.point_a) &&
                          finite_opt(out.point_b) && std::isfinite(out.error_bound),
                      "query %zu: a non-finite number (status %s)", q, out.status.c_str());
+    HEDRA_FUZZ_CHECK(std::isfinite(out.fraction) && out.fraction >= 0.0 && finite_opt(out.point),
+                     "query %zu: a non-finite or negative fraction or point (status %s)", q, out.status.c_str());
+    if (hedra::tool::is_continuous(scene.queries[q].type)) {
+      const double tolerance = hedra::tool::default_fraction_tolerance(*built.built, q);
+      HEDRA_FUZZ_CHECK(tolerance >= 0.0 && !std::isnan(tolerance), "query %zu: fraction tolerance %g", q, tolerance);
+    }
     for (const auto& c : out.contacts)
       HEDRA_FUZZ_CHECK(c.point.allFinite() && std::isfinite(c.depth), "query %zu: non-finite contact", q);
   }

@@ -56,7 +56,7 @@ TEST_P(SceneTest, HedraMeetsEveryExpectation) {
     SCOPED_TRACE(scene.family + "/" + scene.name + " " + q.a + "-" + q.b + " " + q.type);
     const Expectation e = expect(scene, q);
     ASSERT_TRUE(e.exact.ok) << e.exact.reason;
-    EXPECT_TRUE(e.intersecting || e.distance);
+    EXPECT_TRUE(e.intersecting || e.distance || e.hit);
     const std::string problems = check_hedra(scene, q, e);
     if (const KnownDisagreement* k = known(scene, q)) {
       EXPECT_FALSE(problems.empty()) << "hedra now agrees: remove this entry from kKnownDisagreements";
@@ -92,6 +92,36 @@ TEST(SceneCatalog, Coverage) {
   int pairs = 0;
   for (const SceneSpec& s : catalog()) pairs += s.family == "pairs";
   EXPECT_EQ(pairs, 28);  // 7 shape kinds, every unordered pair including equal kinds
+}
+
+// The continuous family: rays, casts and times of impact, each with a
+// closed-form answer the reference confirmed (expect() throws otherwise),
+// covering hits and misses, t = 0 (a ray from inside, bodies overlapping),
+// rotation (toi) and a target distance.
+TEST(SceneCatalog, ContinuousFamily) {
+  std::map<std::string, int> by_type;
+  int hits = 0, misses = 0, at_zero = 0, rotating = 0, with_target = 0;
+  for (const SceneSpec& s : catalog()) {
+    if (s.family != "continuous") continue;
+    for (const QuerySpec& q : s.queries) {
+      SCOPED_TRACE(s.name + " " + q.a + "-" + q.b + " " + q.type);
+      EXPECT_TRUE(q.continuous());
+      ++by_type[q.type];
+      (q.hit ? hits : misses) += 1;
+      at_zero += q.hit && q.fraction == 0.0;
+      with_target += q.target_distance > 0.0;
+      if (q.type == "toi") {
+        const bool turns = s.body(q.a).end_orientation.has_value() || s.body(q.b).end_orientation.has_value();
+        rotating += turns;
+      }
+    }
+  }
+  for (const char* type : {"raycast", "cast", "toi"}) EXPECT_GE(by_type[type], 8) << type;
+  EXPECT_GE(hits, 20);
+  EXPECT_GE(misses, 8);
+  EXPECT_GE(at_zero, 8);
+  EXPECT_GE(rotating, 5);
+  EXPECT_GE(with_target, 3);
 }
 
 // The manifold family: only contact queries, each with the point count the

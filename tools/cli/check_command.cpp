@@ -9,7 +9,11 @@
 //                  or kDefaultAngleTolerance (1e-6 rad); a normal that the
 //                  query leaves undefined (overlapping shapes in a distance
 //                  query) fails;
-//   contact_count  equal.
+//   contact_count  equal;
+//   hit            equal (raycast, cast, toi);
+//   fraction       |value - expected| <= tolerance, the tolerance given or
+//                  default_fraction_tolerance() (1e-9 of the size measured
+//                  along the motion, scene.hpp).
 // One line per query:
 //   PASS scenes/demo.json [0] floor-crate penetration: distance -0.1
 //        (expected -0.1, error 0 <= 2.2e-09); normal [0, 0, 1] (...)
@@ -47,7 +51,8 @@ std::string format_error(double x) {
 
 // Compares one outcome with its expectation; appends the findings to
 // `detail` and returns whether everything matched.
-bool compare(const QueryOutcome& o, const Expectation& e, double default_distance_tolerance, std::string& detail) {
+bool compare(const QueryOutcome& o, const Expectation& e, double default_distance_tolerance,
+             double default_fraction_tolerance, std::string& detail) {
   bool pass = true;
   auto add = [&](const std::string& item) { detail += (detail.empty() ? "" : "; ") + item; };
   if (e.intersecting) {
@@ -83,6 +88,19 @@ bool compare(const QueryOutcome& o, const Expectation& e, double default_distanc
       add("normal " + format_vector(*o.normal) + " (expected " + format_vector(*e.normal) + ", angle " +
           format_error(angle) + (within ? " <= " : " > ") + format_error(tolerance) + " rad)");
     }
+  }
+  if (e.hit) {
+    const bool same = o.hit == *e.hit;
+    pass = pass && same;
+    add(std::string("hit ") + (o.hit ? "true" : "false") + " (expected " + (*e.hit ? "true" : "false") + ")");
+  }
+  if (e.fraction) {
+    const double tolerance = e.tolerance.value_or(default_fraction_tolerance);
+    const double error = std::abs(o.fraction - *e.fraction);
+    const bool within = error <= tolerance;  // false for NaN
+    pass = pass && within;
+    add("fraction " + shortest(o.fraction) + " (expected " + shortest(*e.fraction) + ", error " + format_error(error) +
+        (within ? " <= " : " > ") + format_error(tolerance) + ")");
   }
   if (e.contact_count) {
     const int count = static_cast<int>(o.contacts.size());
@@ -126,7 +144,11 @@ int run_check(const CheckOptions& options, std::string& out, std::ostream& err) 
         const collision::Shape& a = *loaded.built.shapes[scene.bodies[q.a].shape];
         const collision::Shape& b = *loaded.built.shapes[scene.bodies[q.b].shape];
         const double tolerance = default_tolerance(a, loaded.built.poses[q.a], b, loaded.built.poses[q.b]);
-        pass = compare(o, *q.expect, tolerance, detail) && pass;
+        pass = compare(o, *q.expect, tolerance, default_fraction_tolerance(loaded.built, i), detail) && pass;
+      } else if (is_continuous(q.type)) {
+        const std::string summary = "status " + o.status + ", hit " + (o.hit ? "true" : "false") + ", fraction " +
+                                    shortest(o.fraction) + " (no expectation)";
+        detail = o.ok() ? summary : detail;
       } else {
         std::string summary = "status " + o.status;
         if (o.distance) summary += ", distance " + shortest(*o.distance);
@@ -135,7 +157,9 @@ int run_check(const CheckOptions& options, std::string& out, std::ostream& err) 
       }
       (pass ? passed : failed) += 1;
       out += std::string(pass ? "PASS " : "FAIL ") + scene.file + " [" + std::to_string(i) + "] " +
-             scene.bodies[q.a].name + "-" + scene.bodies[q.b].name + " " + to_string(q.type) + ": " + detail + "\n";
+             (q.type == QueryType::raycast ? "ray-" + scene.bodies[q.a].name
+                                           : scene.bodies[q.a].name + "-" + scene.bodies[q.b].name) +
+             " " + to_string(q.type) + ": " + detail + "\n";
     }
   }
   out += std::to_string(passed + failed) + (passed + failed == 1 ? " query in " : " queries in ") +

@@ -7,7 +7,9 @@
 //
 // Fields a query type does not define are JSON null (the distance and
 // normal of an intersect query; the normal and closest points of a distance
-// query between overlapping shapes); nothing is ever NaN.
+// query between overlapping shapes); nothing is ever NaN. The continuous
+// queries (raycast, cast, toi) have records of their own (continuous_json):
+// their vector fields are zero, not null, when there is no hit.
 #include "cli/query_command.hpp"
 
 #include <CLI/CLI.hpp>
@@ -40,6 +42,43 @@ nlohmann::ordered_json vector_json(const std::optional<Eigen::Vector3d>& v) {
   return {(*v)[0], (*v)[1], (*v)[2]};
 }
 
+// A continuous query's record (scene-format.md): raycast answers hit,
+// fraction, point and normal; cast and toi hit, fraction, distance, normal,
+// point_a, point_b and initially_overlapping. Vector fields are zero, never
+// null, when there is no hit.
+nlohmann::ordered_json continuous_json(const Scene& scene, const QuerySpec& q, const QueryOutcome& o, bool stats) {
+  nlohmann::ordered_json r;
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  if (q.type == QueryType::raycast) {
+    r["body"] = scene.bodies[q.a].name;
+    r["type"] = to_string(q.type);
+    r["hit"] = o.hit;
+    r["fraction"] = o.fraction;
+    r["point"] = vector_json(o.point.value_or(zero));
+    r["normal"] = vector_json(o.normal.value_or(zero));
+    r["initially_overlapping"] = o.initially_overlapping;  // the ray started inside
+  } else {
+    r["a"] = scene.bodies[q.a].name;
+    r["b"] = scene.bodies[q.b].name;
+    r["type"] = to_string(q.type);
+    r["hit"] = o.hit;
+    r["fraction"] = o.fraction;
+    r["distance"] = o.distance.value_or(0.0);
+    r["normal"] = vector_json(o.normal.value_or(zero));
+    r["point_a"] = vector_json(o.point_a.value_or(zero));
+    r["point_b"] = vector_json(o.point_b.value_or(zero));
+    r["initially_overlapping"] = o.initially_overlapping;
+  }
+  r["iterations"] = {{"cast", o.cast_iterations}};
+  r["status"] = o.status;
+  r["time_ns"] = o.time_ns;
+  if (stats) {
+    r["stats"] = {
+        {"cast_iterations", o.cast_iterations}, {"support_calls", o.support_calls}, {"error_bound", o.error_bound}};
+  }
+  return r;
+}
+
 std::string format_json(const LoadedScene& loaded, const std::vector<QueryOutcome>& outcomes, bool stats) {
   const Scene& scene = *loaded.scene;
   nlohmann::ordered_json document;
@@ -48,6 +87,10 @@ std::string format_json(const LoadedScene& loaded, const std::vector<QueryOutcom
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
     const QueryOutcome& o = outcomes[i];
     const QuerySpec& q = scene.queries[i];
+    if (is_continuous(q.type)) {
+      results.push_back(continuous_json(scene, q, o, stats));
+      continue;
+    }
     nlohmann::ordered_json r;
     r["a"] = scene.bodies[q.a].name;
     r["b"] = scene.bodies[q.b].name;
@@ -111,6 +154,23 @@ std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcom
     const QueryOutcome& o = outcomes[i];
     const QuerySpec& q = scene.queries[i];
     const std::string distance = o.distance ? shortest(*o.distance) : "-";
+    if (is_continuous(q.type)) {
+      // Continuous: "hit" and the fraction, the cast's distance, its
+      // iterations in the gjk column.
+      char at[64];
+      if (q.type == QueryType::raycast) {
+        std::snprintf(at, sizeof at, "t=%.10g", o.fraction);
+      } else {
+        std::snprintf(at, sizeof at, "t=%.10g d=%.6g", o.fraction, o.distance.value_or(0.0));
+      }
+      std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-5s %-22s %-32s %4d %4s %10s\n", i,
+                    scene.bodies[q.a].name.c_str(),
+                    q.type == QueryType::raycast ? "(ray)" : scene.bodies[q.b].name.c_str(), to_string(q.type),
+                    o.status.c_str(), o.hit ? "yes" : "no", at, format_vector(o.normal).c_str(), o.cast_iterations, "-",
+                    format_time(o.time_ns).c_str());
+      text += line;
+      continue;
+    }
     std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-5s %-22s %-32s %4d %4d %10s\n", i,
                   scene.bodies[q.a].name.c_str(), scene.bodies[q.b].name.c_str(), to_string(q.type), o.status.c_str(),
                   o.intersecting ? "yes" : "no", distance.c_str(), format_vector(o.normal).c_str(), o.gjk_iterations,
@@ -125,6 +185,13 @@ std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcom
     text += line;
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
       const QueryOutcome& o = outcomes[i];
+      if (is_continuous(o.type)) {
+        std::snprintf(line, sizeof line, "  #%zu %s: %d iteration%s, %d support call%s, error bound %.3g\n", i,
+                      to_string(o.type), o.cast_iterations, o.cast_iterations == 1 ? "" : "s", o.support_calls,
+                      o.support_calls == 1 ? "" : "s", o.error_bound);
+        text += line;
+        continue;
+      }
       std::snprintf(line, sizeof line, "  #%zu %s: gjk %d iteration%s, %s, %d support call%s, %s, error bound %.3g\n",
                     i, to_string(o.type), o.gjk_iterations, o.gjk_iterations == 1 ? "" : "s",
                     o.epa_ran ? ("epa " + std::to_string(o.epa_iterations) + " iterations").c_str() : "no epa",

@@ -16,6 +16,7 @@
 #include <hedra/hull/mesh_io.hpp>
 #include <initializer_list>
 #include <iterator>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -53,6 +54,12 @@ const char* to_string(QueryType type) {
       return "penetration";
     case QueryType::contact:
       return "contact";
+    case QueryType::raycast:
+      return "raycast";
+    case QueryType::cast:
+      return "cast";
+    case QueryType::toi:
+      return "toi";
   }
   return "unknown";
 }
@@ -229,33 +236,46 @@ std::size_t find_index(const std::vector<std::string>& names, const std::string&
   return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
 }
 
+// A position: three finite numbers within collision::max_coordinate.
+Eigen::Vector3d position(const json& value, const std::string& path) {
+  const Eigen::Vector3d p = vector3(value, path);
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(p[k]) > collision::max_coordinate)
+      fail(element(path, static_cast<std::size_t>(k)),
+           "too far from the origin (" + format_number(p[k]) + "), expected |x| <= " + "1e60");
+  return p;
+}
+
+// A quaternion [w, x, y, z], normalised. Scaled first, so that neither tiny
+// nor huge components under- or overflow the norm; a zero quaternion has no
+// rotation.
+Eigen::Quaterniond quaternion(const json& value, const std::string& path) {
+  Eigen::Vector4d q = numbers<4>(value, path, " [w, x, y, z]");
+  const double largest = q.cwiseAbs().maxCoeff();
+  if (!(largest > 0.0)) fail(path, "zero quaternion (cannot be normalised)");
+  q /= largest;
+  q.normalize();
+  return Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+}
+
 BodySpec read_body(const std::string& name, const json& value, const std::string& path,
                    const std::vector<std::string>& shape_names) {
   expect_object(value, path);
-  check_keys(value, path, {"shape", "position", "orientation"});
+  check_keys(value, path, {"shape", "position", "orientation", "end_position", "end_orientation"});
   BodySpec body;
   body.name = name;
   const std::string shape = string(require(value, path, "shape"), member(path, "shape"));
   body.shape = find_index(shape_names, shape);
   if (body.shape == shape_names.size()) fail(member(path, "shape"), "unknown shape '" + shape + "'");
-  if (const json* position = optional_member(value, "position")) {
-    body.position = vector3(*position, member(path, "position"));
-    for (int k = 0; k < 3; ++k)
-      if (std::abs(body.position[k]) > collision::max_coordinate)
-        fail(element(member(path, "position"), static_cast<std::size_t>(k)),
-             "too far from the origin (" + format_number(body.position[k]) + "), expected |x| <= " + "1e60");
-  }
-  if (const json* orientation = optional_member(value, "orientation")) {
-    const std::string at = member(path, "orientation");
-    Eigen::Vector4d q = numbers<4>(*orientation, at, " [w, x, y, z]");
-    // Scale first, so that neither tiny nor huge components under- or
-    // overflow the norm; a zero quaternion has no rotation.
-    const double largest = q.cwiseAbs().maxCoeff();
-    if (!(largest > 0.0)) fail(at, "zero quaternion (cannot be normalised)");
-    q /= largest;
-    q.normalize();
-    body.orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
-  }
+  if (const json* p = optional_member(value, "position")) body.position = position(*p, member(path, "position"));
+  if (const json* q = optional_member(value, "orientation"))
+    body.orientation = quaternion(*q, member(path, "orientation"));
+  body.end_position = body.position;
+  body.end_orientation = body.orientation;
+  if (const json* p = optional_member(value, "end_position"))
+    body.end_position = position(*p, member(path, "end_position"));
+  if (const json* q = optional_member(value, "end_orientation"))
+    body.end_orientation = quaternion(*q, member(path, "end_orientation"));
   return body;
 }
 
@@ -263,17 +283,55 @@ BodySpec read_body(const std::string& name, const json& value, const std::string
 
 QueryType read_query_type(const json& value, const std::string& path) {
   const std::string type = string(value, path);
-  for (QueryType t : {QueryType::intersect, QueryType::distance, QueryType::penetration, QueryType::contact}) {
+  for (QueryType t : {QueryType::intersect, QueryType::distance, QueryType::penetration, QueryType::contact,
+                      QueryType::raycast, QueryType::cast, QueryType::toi}) {
     if (type == to_string(t)) return t;
   }
-  fail(path, "unknown query type '" + type + "' (expected intersect, distance, penetration or contact)");
+  fail(path,
+       "unknown query type '" + type + "' (expected intersect, distance, penetration, contact, raycast, cast or toi)");
+}
+
+// A continuous query's expectation: `hit` and `fraction`, `tolerance` on the
+// fraction.
+Expectation read_continuous_expectation(const json& value, const std::string& path, const std::string& type_word) {
+  check_keys(
+      value, path,
+      {"hit", "fraction", "tolerance", "intersecting", "distance", "normal", "contact_count", "angle_tolerance"});
+  for (const char* key : {"intersecting", "distance", "normal", "contact_count", "angle_tolerance"}) {
+    if (optional_member(value, key)) {
+      fail(member(path, key), type_word + " expects only 'hit' and 'fraction' (with 'tolerance'), not '" + key + "'");
+    }
+  }
+  Expectation expect;
+  if (const json* v = optional_member(value, "hit")) {
+    if (!v->is_boolean()) fail(member(path, "hit"), "expected true or false, got " + type_name(*v));
+    expect.hit = v->get<bool>();
+  }
+  if (const json* v = optional_member(value, "fraction")) {
+    expect.fraction = non_negative(*v, member(path, "fraction"));
+  }
+  if (const json* v = optional_member(value, "tolerance")) {
+    const std::string at = member(path, "tolerance");
+    expect.tolerance = non_negative(*v, at);
+    if (!expect.fraction) fail(at, "no 'fraction' expected to apply it to");
+  }
+  if (expect.empty()) fail(path, "empty (expect at least one of hit, fraction)");
+  return expect;
 }
 
 Expectation read_expectation(const json& value, const std::string& path, QueryType type) {
   expect_object(value, path);
-  check_keys(value, path, {"intersecting", "distance", "normal", "contact_count", "tolerance", "angle_tolerance"});
   Expectation expect;
   const std::string type_word = std::string("a '") + to_string(type) + "' query";
+  if (is_continuous(type)) return read_continuous_expectation(value, path, type_word);
+  check_keys(
+      value, path,
+      {"intersecting", "distance", "normal", "contact_count", "hit", "fraction", "tolerance", "angle_tolerance"});
+  for (const char* key : {"hit", "fraction"}) {
+    if (optional_member(value, key)) {
+      fail(member(path, key), type_word + " has no '" + key + "' (only raycast, cast and toi queries do)");
+    }
+  }
   if (const json* v = optional_member(value, "intersecting")) {
     if (!v->is_boolean()) fail(member(path, "intersecting"), "expected true or false, got " + type_name(*v));
     expect.intersecting = v->get<bool>();
@@ -318,18 +376,49 @@ Expectation read_expectation(const json& value, const std::string& path, QueryTy
   return expect;
 }
 
+std::size_t read_body_name(const json& value, const std::string& path, const char* key,
+                           const std::vector<std::string>& body_names) {
+  const std::string at = member(path, key);
+  const std::string name = string(require(value, path, key), at);
+  const std::size_t index = find_index(body_names, name);
+  if (index == body_names.size()) fail(at, "unknown body '" + name + "'");
+  return index;
+}
+
+// raycast: "body", "origin", "direction" (not zero), "max_fraction" (>= 0).
+void read_ray(const json& value, const std::string& path, const std::vector<std::string>& body_names,
+              QuerySpec& query) {
+  check_keys(value, path, {"type", "body", "origin", "direction", "max_fraction", "expect"});
+  query.a = query.b = read_body_name(value, path, "body", body_names);
+  query.origin = position(require(value, path, "origin"), member(path, "origin"));
+  const std::string at = member(path, "direction");
+  query.direction = vector3(require(value, path, "direction"), at);
+  if (!(query.direction.cwiseAbs().maxCoeff() > 0.0)) fail(at, "zero vector (a ray needs a direction)");
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(query.direction[k]) > collision::max_coordinate)
+      fail(element(at, static_cast<std::size_t>(k)),
+           "too large (" + format_number(query.direction[k]) + "), expected |x| <= " + "1e60");
+  if (const json* v = optional_member(value, "max_fraction"))
+    query.max_fraction = non_negative(*v, member(path, "max_fraction"));
+}
+
 QuerySpec read_query(const json& value, const std::string& path, const std::vector<std::string>& body_names) {
   expect_object(value, path);
-  check_keys(value, path, {"a", "b", "type", "expect"});
   QuerySpec query;
-  for (const char* side : {"a", "b"}) {
-    const std::string at = member(path, side);
-    const std::string name = string(require(value, path, side), at);
-    const std::size_t index = find_index(body_names, name);
-    if (index == body_names.size()) fail(at, "unknown body '" + name + "'");
-    (side[0] == 'a' ? query.a : query.b) = index;
-  }
   query.type = read_query_type(require(value, path, "type"), member(path, "type"));
+  if (query.type == QueryType::raycast) {
+    read_ray(value, path, body_names, query);
+  } else {
+    if (query.type == QueryType::cast || query.type == QueryType::toi) {
+      check_keys(value, path, {"a", "b", "type", "target_distance", "expect"});
+      if (const json* v = optional_member(value, "target_distance"))
+        query.target_distance = non_negative(*v, member(path, "target_distance"));
+    } else {
+      check_keys(value, path, {"a", "b", "type", "expect"});
+    }
+    query.a = read_body_name(value, path, "a", body_names);
+    query.b = read_body_name(value, path, "b", body_names);
+  }
   if (const json* expect = optional_member(value, "expect")) {
     query.expect = read_expectation(*expect, member(path, "expect"), query.type);
   }
@@ -538,12 +627,56 @@ double pair_size(const collision::Shape& a, const collision::Pose& pose_a, const
   return half_gap + std::max(collision::bounding_radius(a), collision::bounding_radius(b));
 }
 
+namespace {
+
+// The largest distance of a shape's points from its local origin (a
+// polyhedron's core sits at its offset from that origin).
+double reach(const collision::Shape& shape) {
+  const auto* polyhedron = std::get_if<collision::Polyhedron>(&shape);
+  const double offset = polyhedron ? polyhedron->hull->offset().norm() : 0.0;
+  return offset + collision::bounding_radius(shape);
+}
+
+}  // namespace
+
+double default_fraction_tolerance(const BuiltScene& built, std::size_t index) {
+  const Scene& scene = *built.scene;
+  const QuerySpec& query = scene.queries[index];
+  const collision::Shape& a = *built.shapes[scene.bodies[query.a].shape];
+  const collision::Shape& b = *built.shapes[scene.bodies[query.b].shape];
+  const collision::Pose& pa = built.poses[query.a];
+  const collision::Pose& pb = built.poses[query.b];
+  const BodySpec& body_a = scene.bodies[query.a];
+  const BodySpec& body_b = scene.bodies[query.b];
+  double size = 0.0;
+  double speed = 0.0;
+  double far = 0.0;  // the coordinates' magnitude: their rounding is the floor
+  if (query.type == QueryType::raycast) {
+    size = collision::bounding_radius(a);
+    speed = query.direction.norm();
+    far = std::max(query.origin.cwiseAbs().maxCoeff(), body_a.position.cwiseAbs().maxCoeff());
+  } else {
+    size = pair_size(a, pa, b, pb);
+    speed = ((body_b.end_position - body_b.position) - (body_a.end_position - body_a.position)).norm();
+    if (query.type == QueryType::toi) {
+      speed += body_a.orientation.angularDistance(body_a.end_orientation) * reach(a) +
+               body_b.orientation.angularDistance(body_b.end_orientation) * reach(b);
+    }
+    far = std::max(body_a.position.cwiseAbs().maxCoeff(), body_b.position.cwiseAbs().maxCoeff());
+  }
+  const double distance = kDefaultRelativeTolerance * size + 64.0 * std::numeric_limits<double>::epsilon() * far;
+  return speed > 0.0 ? distance / speed : kDefaultRelativeTolerance;
+}
+
 BuildShapesResult build_shapes(const Scene& scene, bool all_shapes) {
   BuildShapesResult result;
   BuiltScene built;
   built.scene = &scene;
   built.shapes.resize(scene.shapes.size());
-  for (const BodySpec& body : scene.bodies) built.poses.push_back(body.pose());
+  for (const BodySpec& body : scene.bodies) {
+    built.poses.push_back(body.pose());
+    built.end_poses.push_back(body.end_pose());
+  }
 
   std::vector<bool> needed(scene.shapes.size(), all_shapes);
   for (const QuerySpec& query : scene.queries) {
@@ -636,6 +769,7 @@ BuildShapesResult build_shapes(const Scene& scene, bool all_shapes) {
   // otherwise, with exit code 0.
   for (std::size_t i = 0; i < scene.queries.size(); ++i) {
     const QuerySpec& query = scene.queries[i];
+    if (query.type == QueryType::raycast) continue;  // one body: any size answers
     const BodySpec& a = scene.bodies[query.a];
     const BodySpec& b = scene.bodies[query.b];
     if (!collision::pair_in_range(*built.shapes[a.shape], built.poses[query.a], *built.shapes[b.shape],

@@ -34,7 +34,12 @@
 namespace hedra::tool {
 
 enum class ShapeKind { sphere, box, capsule, cylinder, cone, hull };
-enum class QueryType { intersect, distance, penetration, contact };
+enum class QueryType { intersect, distance, penetration, contact, raycast, cast, toi };
+// raycast, cast and toi: the continuous queries (a ray, or bodies moving
+// from their start pose to their end pose over t in [0, 1]).
+inline bool is_continuous(QueryType type) {
+  return type == QueryType::raycast || type == QueryType::cast || type == QueryType::toi;
+}
 
 const char* to_string(ShapeKind kind);
 const char* to_string(QueryType type);
@@ -56,7 +61,12 @@ struct BodySpec {
   std::size_t shape = 0;                                            // index into Scene::shapes
   Eigen::Vector3d position = Eigen::Vector3d::Zero();               // world frame
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // normalised
+  // The pose at the end of the step (continuous queries): "end_position" and
+  // "end_orientation", each defaulting to the start's.
+  Eigen::Vector3d end_position = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond end_orientation = Eigen::Quaterniond::Identity();  // normalised
   collision::Pose pose() const { return collision::Pose::from_quaternion(orientation, position); }
+  collision::Pose end_pose() const { return collision::Pose::from_quaternion(end_orientation, end_position); }
 };
 
 struct Expectation {
@@ -64,15 +74,24 @@ struct Expectation {
   std::optional<double> distance;
   std::optional<Eigen::Vector3d> normal;  // unit (normalised when read)
   std::optional<int> contact_count;
-  std::optional<double> tolerance;        // absolute, on distance; default: default_tolerance()
+  std::optional<bool> hit;         // continuous queries only
+  std::optional<double> fraction;  // continuous queries only
+  // Absolute, on distance (discrete queries; default: default_tolerance())
+  // or on fraction (continuous queries; default: default_fraction_tolerance()).
+  std::optional<double> tolerance;
   std::optional<double> angle_tolerance;  // radians, on normal; default: kDefaultAngleTolerance
-  bool empty() const { return !intersecting && !distance && !normal && !contact_count; }
+  bool empty() const { return !intersecting && !distance && !normal && !contact_count && !hit && !fraction; }
 };
 
 struct QuerySpec {
-  std::size_t a = 0;  // indices into Scene::bodies
+  std::size_t a = 0;  // indices into Scene::bodies (raycast: both are "body")
   std::size_t b = 0;
   QueryType type = QueryType::distance;
+  // raycast: the ray origin + t direction, t in [0, max_fraction].
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // never zero
+  double max_fraction = 1.0;                            // >= 0
+  double target_distance = 0.0;                         // cast, toi: >= 0
   std::optional<Expectation> expect;
 };
 
@@ -101,6 +120,7 @@ struct BuiltScene {
   const Scene* scene = nullptr;
   std::vector<std::optional<collision::Shape>> shapes;  // per ShapeSpec; empty when no query uses it
   std::vector<collision::Pose> poses;                   // per BodySpec
+  std::vector<collision::Pose> end_poses;               // per BodySpec (continuous queries)
   int shapes_built = 0;
   int hulls_built = 0;
   int mesh_files_read = 0;
@@ -131,5 +151,15 @@ inline double default_tolerance(const collision::Shape& a, const collision::Pose
                                 const collision::Pose& pose_b) {
   return kDefaultRelativeTolerance * pair_size(a, pose_a, b, pose_b);
 }
+
+// The default tolerance on a continuous query's fraction: 1e-9 of the size
+// (plus the rounding of the coordinates, 64 eps times the largest start
+// coordinate) measured along the motion, i.e. divided by the fastest the
+// distance can change per unit of t; 1e-9 when nothing moves:
+//   raycast   size = the body's bounding radius, speed = |direction|;
+//   cast      size = pair_size at the start, speed = |relative translation|;
+//   toi       as cast, speed = |relative translation| + theta_a r_a + theta_b r_b
+//             (theta the turn of each body, r its largest reach from its origin).
+double default_fraction_tolerance(const BuiltScene& built, std::size_t query);
 
 }  // namespace hedra::tool

@@ -3,8 +3,11 @@
 
 #include <charconv>
 #include <cmath>
+#include <hedra/collision/cast.hpp>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
+#include <hedra/collision/raycast.hpp>
+#include <hedra/collision/time_of_impact.hpp>
 #include <optional>
 #include <utility>
 
@@ -169,6 +172,94 @@ QueryOutcome run_contact(const collision::Shape& a, const collision::Pose& pa, c
   return out;
 }
 
+// ---- continuous queries ------------------------------------------------------
+
+// "ok" for the three verdicts, the library's word otherwise.
+std::string cast_status(collision::CastStatus status) {
+  switch (status) {
+    case collision::CastStatus::hit:
+    case collision::CastStatus::separated:
+    case collision::CastStatus::initially_overlapping:
+      return "ok";
+    default:
+      return collision::to_string(status);
+  }
+}
+
+// A vector output: finite, or zero with status "non_finite".
+Eigen::Vector3d finite_or_zero(QueryOutcome& out, const Eigen::Vector3d& v) {
+  if (finite(v)) return unsigned_zero(v);
+  if (out.ok()) out.status = "non_finite";
+  return Eigen::Vector3d::Zero();
+}
+double finite_or_zero(QueryOutcome& out, double x) {
+  if (std::isfinite(x)) return unsigned_zero(x);
+  if (out.ok()) out.status = "non_finite";
+  return 0.0;
+}
+
+QueryOutcome run_raycast(const collision::Shape& shape, const collision::Pose& pose, const QuerySpec& query,
+                         int repeat) {
+  QueryOutcome out;
+  out.type = QueryType::raycast;
+  const collision::RaycastResult r = timed(repeat, out.time_ns, [&] {
+    return collision::raycast(shape, pose, query.origin, query.direction, query.max_fraction);
+  });
+  out.status = cast_status(r.status);
+  out.hit = r.hit;
+  out.intersecting = r.hit;
+  out.initially_overlapping = r.started_inside;
+  out.fraction = finite_or_zero(out, r.fraction);
+  out.point = finite_or_zero(out, r.point);
+  out.normal = finite_or_zero(out, r.normal);
+  out.cast_iterations = r.iterations;
+  out.error_bound = std::isfinite(r.error_bound) ? r.error_bound : 0.0;
+  return out;
+}
+
+void set_cast(QueryOutcome& out, const collision::CastResult& r) {
+  out.status = cast_status(r.status);
+  out.hit = r.hit;
+  out.intersecting = r.hit;
+  out.initially_overlapping = r.initially_overlapping;
+  out.fraction = finite_or_zero(out, r.fraction);
+  out.distance = finite_or_zero(out, r.distance);
+  out.normal = finite_or_zero(out, r.normal);
+  out.point_a = finite_or_zero(out, r.point_a);
+  out.point_b = finite_or_zero(out, r.point_b);
+  out.cast_iterations = r.iterations;
+  out.support_calls = r.support_calls;
+  out.error_bound = std::isfinite(r.error_bound) ? r.error_bound : 0.0;
+}
+
+// Translation only: each body from its position to its end position, at its
+// start orientation.
+QueryOutcome run_cast(const collision::Shape& a, const BodySpec& body_a, const collision::Shape& b,
+                      const BodySpec& body_b, const QuerySpec& query, int repeat) {
+  QueryOutcome out;
+  out.type = QueryType::cast;
+  collision::ShapeCastSettings settings;
+  settings.target_distance = query.target_distance;
+  const collision::Pose pa = body_a.pose();
+  const collision::Pose pb = body_b.pose();
+  const Eigen::Vector3d ua = body_a.end_position - body_a.position;
+  const Eigen::Vector3d ub = body_b.end_position - body_b.position;
+  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::shape_cast(a, pa, ua, b, pb, ub, settings); }));
+  return out;
+}
+
+QueryOutcome run_toi(const collision::Shape& a, const BodySpec& body_a, const collision::Shape& b,
+                     const BodySpec& body_b, const QuerySpec& query, int repeat) {
+  QueryOutcome out;
+  out.type = QueryType::toi;
+  collision::ToiSettings settings;
+  settings.target_distance = query.target_distance;
+  const collision::Sweep sa{body_a.pose(), body_a.end_pose()};
+  const collision::Sweep sb{body_b.pose(), body_b.end_pose()};
+  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::time_of_impact(a, sa, b, sb, settings); }));
+  return out;
+}
+
 }  // namespace
 
 QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat) {
@@ -190,6 +281,12 @@ QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat) {
       return run_penetration(a, pa, b, pb, repeat);
     case QueryType::contact:
       return run_contact(a, pa, b, pb, repeat);
+    case QueryType::raycast:
+      return run_raycast(a, pa, query, repeat);
+    case QueryType::cast:
+      return run_cast(a, scene.bodies[query.a], b, scene.bodies[query.b], query, repeat);
+    case QueryType::toi:
+      return run_toi(a, scene.bodies[query.a], b, scene.bodies[query.b], query, repeat);
   }
   return run_contact(a, pa, b, pb, repeat);
 }

@@ -10,6 +10,15 @@
 //                                           overlap or touch)
 //   contact     -> collision::contact      (SAT + clipping or the curved
 //                                           paths of manifold.hpp; up to 4 points)
+//   raycast     -> collision::raycast      (closed forms, or the GJK ray cast)
+//   cast        -> collision::shape_cast   (translation only, start orientations)
+//   toi         -> collision::time_of_impact (the full motion, rotation included)
+//
+// Continuous outcomes follow scene-format.md: hit, fraction (the largest
+// fraction searched when there is no hit), and the vector fields zero (never
+// absent) when there is none. Their status is "ok" for the library's hit,
+// separated and initially_overlapping, otherwise the library's word
+// (max_iterations, stalled, degenerate, invalid_input).
 //
 // Outcomes never hold NaN: a value the query does not define (the distance
 // of an intersect query, the normal of overlapping shapes in a distance
@@ -41,7 +50,13 @@ struct QueryOutcome {
   std::optional<Eigen::Vector3d> point_a;  // world
   std::optional<Eigen::Vector3d> point_b;
   std::vector<ContactPoint> contacts;
-  double error_bound = 0.0;  // the library's bound on |distance| error (0 for intersect)
+  // Continuous queries (raycast, cast, toi).
+  bool hit = false;
+  double fraction = 0.0;
+  bool initially_overlapping = false;    // cast, toi; a ray: started inside
+  std::optional<Eigen::Vector3d> point;  // raycast: the hit point (world)
+  int cast_iterations = 0;               // ray-cast iterations or advancement steps
+  double error_bound = 0.0;              // the library's bound on |distance| error (0 for intersect)
   // Which stages ran (for --stats): GJK always; EPA only in penetration and
   // contact queries whose cores overlap or touch (epa_ran: EPA expanded at
   // least once, the most the library's result tells); the manifold only for

@@ -95,6 +95,11 @@ std::string scene_text(const SceneSpec& scene, Counts& counts, bool verify) {
     json j = {{"shape", b.shape}, {"position", vec(b.position)}};
     if (b.orientation != Eigen::Vector4d(1, 0, 0, 0))
       j["orientation"] = json::array({b.orientation[0], b.orientation[1], b.orientation[2], b.orientation[3]});
+    if (b.end_position) j["end_position"] = vec(*b.end_position);
+    if (b.end_orientation) {
+      const Eigen::Vector4d& q = *b.end_orientation;
+      j["end_orientation"] = json::array({q[0], q[1], q[2], q[3]});
+    }
     bodies[b.name] = j;
   }
   std::vector<json> queries;
@@ -102,6 +107,33 @@ std::string scene_text(const SceneSpec& scene, Counts& counts, bool verify) {
     const Expectation e = hedra::scenes::expect(scene, q);
     if (!e.exact.ok) throw std::runtime_error(scene.name + ": " + q.a + "-" + q.b + ": " + e.exact.reason);
     json ex = json::object();
+    if (q.continuous()) {
+      ex["hit"] = *e.hit;
+      ex["fraction"] = clean(*e.fraction);
+      ex["tolerance"] = e.tolerance;
+      json j;
+      if (q.type == "raycast") {
+        j = {{"type", q.type}, {"body", q.a}, {"origin", vec(q.origin)}, {"direction", vec(q.direction)}};
+        if (q.max_fraction != 1.0) j["max_fraction"] = q.max_fraction;
+      } else {
+        j = {{"a", q.a}, {"b", q.b}, {"type", q.type}};
+        if (q.target_distance != 0.0) j["target_distance"] = q.target_distance;
+      }
+      j["expect"] = ex;
+      queries.push_back(j);
+    }
+    if (q.continuous()) {
+      ++counts.queries;
+      if (verify) {
+        const std::string problems = hedra::scenes::check_hedra(scene, q, e);
+        if (!problems.empty()) {
+          ++counts.disagreements;
+          std::cerr << "hedra disagrees: " << scene.family << "/" << scene.name << ".json " << q.a << "-" << q.b << " "
+                    << q.type << ": " << problems << "\n";
+        }
+      }
+      continue;
+    }
     if (e.intersecting) ex["intersecting"] = *e.intersecting;
     if (e.distance) ex["distance"] = clean(*e.distance);
     if (e.normal) ex["normal"] = vec(*e.normal);

@@ -5,9 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <hedra/collision/cast.hpp>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
+#include <hedra/collision/raycast.hpp>
+#include <hedra/collision/time_of_impact.hpp>
 #include <hedra/hull/mesh_io.hpp>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
@@ -253,6 +257,45 @@ struct Builder {
   Builder& contact(const std::string& a, const std::string& b, int count) {
     scene.queries.push_back({a, b, "contact", count >= 0 ? std::optional<int>(count) : std::nullopt});
     return *this;
+  }
+  // A moving body: from (position, orientation) to (end, end_orientation).
+  Builder& moving(const std::string& name, const std::string& shape, const Vec& position, const Vec& end,
+                  const Eigen::Vector4d& orientation = kIdentity, const Eigen::Vector4d& end_orientation = kIdentity) {
+    BodySpec body{name, shape, position, orientation};
+    body.end_position = end;
+    if (end_orientation != orientation) body.end_orientation = end_orientation;
+    scene.bodies.push_back(body);
+    return *this;
+  }
+  // A raycast with its closed-form answer (`closing`: the ray's speed along
+  // the surface normal at the hit; a miss answers max_fraction).
+  Builder& ray(const std::string& body, const Vec& origin, const Vec& direction, bool hit, double fraction,
+               double closing, double max_fraction = 1.0) {
+    QuerySpec q{body, "", "raycast", std::nullopt};
+    q.origin = origin;
+    q.direction = direction;
+    q.max_fraction = max_fraction;
+    q.hit = hit;
+    q.fraction = hit ? fraction : max_fraction;
+    q.closing_speed = closing;
+    scene.queries.push_back(q);
+    return *this;
+  }
+  // A cast or toi with its closed-form answer.
+  Builder& sweep(const std::string& type, const std::string& a, const std::string& b, bool hit, double fraction,
+                 double closing, double target = 0.0) {
+    QuerySpec q{a, b, type, std::nullopt};
+    q.target_distance = target;
+    q.hit = hit;
+    q.fraction = hit ? fraction : 1.0;
+    q.closing_speed = closing;
+    scene.queries.push_back(q);
+    return *this;
+  }
+  Builder& both(const std::string& a, const std::string& b, bool hit, double fraction, double closing,
+                double target = 0.0) {
+    sweep("cast", a, b, hit, fraction, closing, target);
+    return sweep("toi", a, b, hit, fraction, closing, target);
   }
   // distance and penetration (and intersect when `with_intersect`).
   Builder& all(const std::string& a, const std::string& b, bool with_intersect = true) {
@@ -869,6 +912,193 @@ void degenerate(std::vector<SceneSpec>& out) {
   }
 }
 
+// Continuous queries: every answer a closed form (the descriptions give it),
+// checked against the exact reference by expect(). Positions are chosen so
+// that the closed forms are evaluated on the very doubles the files hold.
+void continuous_rays(std::vector<SceneSpec>& out) {
+  {
+    Builder b("continuous", "ray_box",
+              "Rays against a box (half 1 x 2 x 3, centred at (2, 0, 0)): along +x from x = -3 entering the face "
+              "x = 1 at t = 4/10; obliquely along (8, 6, 0) from (-3, -3, 0), entering x = 1 at t = 0.5 "
+              "(y = 0 there); along a face's plane 1e-6 outside it (y = 2 + 1e-6): a miss; and one stopped by "
+              "max_fraction 0.3 before the box (a miss at 0.3).");
+    b.shape(box("crate", Vec(1, 2, 3)));
+    b.body("crate", "crate", Vec(2, 0, 0));
+    b.ray("crate", Vec(-3, 0.5, 0.25), Vec(10, 0, 0), true, 0.4, 10);
+    b.ray("crate", Vec(-3, -3, 0), Vec(8, 6, 0), true, 0.5, 8);
+    b.ray("crate", Vec(-3, 2 + 1e-6, 0), Vec(10, 0, 0), false, 1.0, 0);
+    b.ray("crate", Vec(-3, 0, 0), Vec(10, 0, 0), false, 0.3, 0, 0.3);
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("continuous", "ray_sphere",
+              "Rays against a unit sphere at the origin: from (-5, 0.6, 0) along (10, 0, 0) it meets x = "
+              "-sqrt(1 - 0.36) = -0.8 at t = 0.42 (closing speed 10 * 0.8); through the centre from (0, 0, 3) "
+              "along (0, 0, -4) at t = 0.5; and 1e-6 beside it (y = 1 + 1e-6): a miss.");
+    b.shape(sphere("ball", 1.0));
+    b.body("ball", "ball", Vec::Zero());
+    b.ray("ball", Vec(-5, 0.6, 0), Vec(10, 0, 0), true, (5.0 - std::sqrt(1.0 - 0.6 * 0.6)) / 10.0, 8);
+    b.ray("ball", Vec(0, 0, 3), Vec(0, 0, -4), true, 0.5, 4);
+    b.ray("ball", Vec(-5, 1 + 1e-6, 0), Vec(10, 0, 0), false, 1.0, 0);
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("continuous", "ray_capsule",
+              "Rays against a capsule (radius 0.5, half length 1, axis z) at the origin: across its side from "
+              "(-5, 0, 0.5) along (10, 0, 0), x = -0.5 at t = 0.45; down its axis from (0, 0, 5) along (0, 0, -10), "
+              "the cap's top z = 1.5 at t = 0.35; down from (0.3, 0, 5), the cap at z = 1 + sqrt(0.25 - 0.09) = 1.4, "
+              "t = 0.36 (closing speed 10 * 0.4 / 0.5).");
+    b.shape(capsule("pill", 0.5, 1.0));
+    b.body("pill", "pill", Vec::Zero());
+    b.ray("pill", Vec(-5, 0, 0.5), Vec(10, 0, 0), true, 0.45, 10);
+    b.ray("pill", Vec(0, 0, 5), Vec(0, 0, -10), true, 0.35, 10);
+    b.ray("pill", Vec(0.3, 0, 5), Vec(0, 0, -10), true, (5.0 - 1.0 - std::sqrt(0.25 - 0.3 * 0.3)) / 10.0, 8);
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("continuous", "ray_cylinder",
+              "Rays against a cylinder (radius 0.5, half length 1, axis z) at the origin: across its side from "
+              "(-5, 0, 0) along (10, 0, 0), x = -0.5 at t = 0.45; parallel to its axis inside the radius, from "
+              "(0.2, 0.1, 5) along (0, 0, -10), the top disk z = 1 at t = 0.4; parallel to the axis 1e-6 outside "
+              "the radius (x = 0.5 + 1e-6): a miss; and from inside it (the origin): t = 0.");
+    b.shape(cylinder("can", 0.5, 1.0));
+    b.body("can", "can", Vec::Zero());
+    b.ray("can", Vec(-5, 0, 0), Vec(10, 0, 0), true, 0.45, 10);
+    b.ray("can", Vec(0.2, 0.1, 5), Vec(0, 0, -10), true, 0.4, 10);
+    b.ray("can", Vec(0.5 + 1e-6, 0, 5), Vec(0, 0, -10), false, 1.0, 0);
+    b.ray("can", Vec(0, 0, 0), Vec(1, 0, 0), true, 0.0, 1);
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("continuous", "ray_from_inside",
+              "Rays that start inside their body hit at t = 0: from a box's centre, from a point of a sphere 1e-3 "
+              "inside its surface, from inside a rounded box (margin 0.1) within the margin, and from inside a "
+              "hull (a tetrahedron).");
+    b.shape(box("crate", Vec(1, 1, 1))).shape(sphere("ball", 1.0)).shape(box("soft", Vec(0.5, 0.5, 0.5), 0.1));
+    b.shape(hull("tetra", {Vec(0, 0, 0), Vec(1, 0, 0), Vec(0, 1, 0), Vec(0, 0, 1)}));
+    b.body("crate", "crate", Vec(0, 0, 0)).body("ball", "ball", Vec(5, 0, 0)).body("soft", "soft", Vec(0, 5, 0));
+    b.body("tetra", "tetra", Vec(0, 0, 5));
+    b.ray("crate", Vec(0, 0, 0), Vec(3, 0, 0), true, 0.0, 1);
+    b.ray("ball", Vec(5.999, 0, 0), Vec(-1, 0, 0), true, 0.0, 1);
+    b.ray("soft", Vec(0.55, 5, 0), Vec(0, 0, 1), true, 0.0, 1);
+    b.ray("tetra", Vec(0.1, 0.1, 5.1), Vec(1, 1, 1), true, 0.0, 1);
+    out.push_back(b.scene);
+  }
+}
+
+void continuous_sweeps(std::vector<SceneSpec>& out) {
+  {
+    // Relative motion u = (10, 0, 0), B's centre at (4, 0.3, 0) from A's: contact when
+    // |t u - (4, 0.3, 0)| = R, t = (4 - sqrt(R^2 - 0.09)) / 10.
+    const double r1 = std::sqrt(0.75 * 0.75 - 0.09), r2 = std::sqrt(0.85 * 0.85 - 0.09);
+    Builder b("continuous", "sphere_sphere",
+              "A sphere (radius 0.5) moving from the origin to (10, 0, 0) against a sphere (radius 0.25) at "
+              "(4, 0.3, 0): contact at t = (4 - sqrt(0.75^2 - 0.3^2)) / 10 (closing speed 10 * sqrt(...) / 0.75); "
+              "with target distance 0.1, R = 0.85; the same motion spinning a half turn about x (toi: a sphere's "
+              "spin changes nothing); and a pass 1e-6 wide of contact (B at y = 0.75 + 1e-6): a miss.");
+    b.shape(sphere("big", 0.5)).shape(sphere("small", 0.25));
+    b.moving("mover", "big", Vec(0, 0, 0), Vec(10, 0, 0));
+    b.moving("spinner", "big", Vec(0, 0, 0), Vec(10, 0, 0), kIdentity, quat(kPi * 0.999, Vec(1, 0, 0)));
+    b.body("target", "small", Vec(4, 0.3, 0)).body("wide", "small", Vec(4, 0.75 + 1e-6, 0));
+    b.both("mover", "target", true, (4 - r1) / 10, 10 * r1 / 0.75);
+    b.both("mover", "target", true, (4 - r2) / 10, 10 * r2 / 0.85, 0.1);
+    b.sweep("toi", "spinner", "target", true, (4 - r1) / 10, 10 * r1 / 0.75);
+    b.both("mover", "wide", false, 1.0, 0);
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("continuous", "thin_plate",
+              "A small fast box (half 0.01) and a sphere (radius 0.01) moving 10 along -z from z = 5 through a thin "
+              "plate (half 1 x 1 x 0.005: thickness 1e-3 of the travel) at the origin: contact when the bottom "
+              "reaches z = 0.005, at t = (5 - 0.015) / 10 = 0.4985; the box also spinning a quarter turn about z "
+              "(toi: its bottom face stays horizontal, same t).");
+    b.shape(box("plate", Vec(1, 1, 0.005))).shape(box("chip", Vec(0.01, 0.01, 0.01))).shape(sphere("pellet", 0.01));
+    b.body("plate", "plate", Vec::Zero());
+    b.moving("chip", "chip", Vec(0.2, 0.1, 5), Vec(0.2, 0.1, -5));
+    b.moving("pellet", "pellet", Vec(-0.3, 0.2, 5), Vec(-0.3, 0.2, -5));
+    b.moving("spinning_chip", "chip", Vec(0.1, -0.2, 5), Vec(0.1, -0.2, -5), kIdentity, quat(kPi / 2, Vec(0, 0, 1)));
+    b.both("chip", "plate", true, 0.4985, 10);
+    b.both("pellet", "plate", true, 0.4985, 10);
+    b.sweep("toi", "spinning_chip", "plate", true, 0.4985, 10);
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("continuous", "grazing",
+              "Grazing passes: a sphere (radius 0.5) sliding along x over a box (half 1 x 1 x 0.5, top at z = 0.5) "
+              "1e-6 above its top face (centre at z = 1 + 1e-6): a miss; the same 1e-6 beside its side face: a "
+              "miss; and a box (half 0.5) sliding with its bottom face 1e-6 above the top face: a miss.");
+    b.shape(box("block", Vec(1, 1, 0.5))).shape(sphere("ball", 0.5)).shape(box("lid", Vec(0.5, 0.5, 0.5)));
+    b.body("block", "block", Vec::Zero());
+    b.moving("over", "ball", Vec(-5, 0, 1 + 1e-6), Vec(5, 0, 1 + 1e-6));
+    b.moving("beside", "ball", Vec(-5, 1.5 + 1e-6, 0), Vec(5, 1.5 + 1e-6, 0));
+    b.moving("lid", "lid", Vec(-5, 0, 1 + 1e-6), Vec(5, 0, 1 + 1e-6));
+    b.both("block", "over", false, 1.0, 0);
+    b.both("block", "beside", false, 1.0, 0);
+    b.both("block", "lid", false, 1.0, 0);
+    out.push_back(b.scene);
+  }
+  {
+    // Posts (half 0.25 x 2 x 0.5) at x = +-0.85: the gap is |x| < 0.6, their tops at z = 0.5.
+    // A bar (half 1 x 0.05 x 0.05) falls from z = 2 to z = -2, turning about z (its bottom face
+    // stays at z - 0.05): it reaches the tops at t = (2 - 0.55) / 4 = 0.3625, where its half
+    // extent along x is cos(a) + 0.05 sin(a).
+    Builder b("continuous", "rotating_bar",
+              "A long thin bar (half 1 x 0.05 x 0.05) falling from z = 2 to z = -2 while turning about z, between "
+              "two posts (half 0.25 x 2 x 0.5 at x = +-0.85: a gap |x| < 0.6, tops at z = 0.5). Its bottom face "
+              "stays horizontal and reaches the tops at t = (2 - 0.55) / 4 = 0.3625. Turning 0 to 90 deg, it is at "
+              "32.6 deg then, reaching |x| = cos + 0.05 sin = 0.87 > 0.6: it lands on both posts at t = 0.3625. "
+              "Turning 45 to 90 deg, it is at 61.3 deg, reaching 0.52 < 0.6, and narrows after: it passes "
+              "through the gap (a miss).");
+    b.shape(box("post", Vec(0.25, 2, 0.5))).shape(box("bar", Vec(1, 0.05, 0.05)));
+    b.body("left", "post", Vec(-0.85, 0, 0)).body("right", "post", Vec(0.85, 0, 0));
+    b.moving("slow", "bar", Vec(0, 0, 2), Vec(0, 0, -2), kIdentity, quat(kPi / 2, Vec(0, 0, 1)));
+    b.moving("fast", "bar", Vec(0, 0, 2), Vec(0, 0, -2), quat(kPi / 4, Vec(0, 0, 1)), quat(kPi / 2, Vec(0, 0, 1)));
+    b.sweep("toi", "slow", "right", true, 0.3625, 4).sweep("toi", "slow", "left", true, 0.3625, 4);
+    b.sweep("toi", "fast", "right", false, 1.0, 0).sweep("toi", "fast", "left", false, 1.0, 0);
+    out.push_back(b.scene);
+  }
+  {
+    Builder b("continuous", "initially_overlapping",
+              "Bodies overlapping at t = 0 answer hit at t = 0 with initially_overlapping, whatever the motion: a "
+              "sphere (radius 0.5) 0.3 deep into a unit box and moving away; two boxes 0.1 deep into each other "
+              "and moving apart with a turn (toi); and a sphere within the target distance 0.2 of the box "
+              "(0.1 away).");
+    b.shape(box("crate", Vec(1, 1, 1))).shape(sphere("ball", 0.5));
+    b.body("crate", "crate", Vec::Zero());
+    b.moving("sunk", "ball", Vec(1.2, 0, 0), Vec(5, 0, 0));
+    b.moving("jammed", "crate", Vec(0, 0, 1.9), Vec(0, 0, 4), kIdentity, quat(0.5, Vec(0, 0, 1)));
+    b.moving("near", "ball", Vec(0, 1.6, 0), Vec(0, 5, 0));
+    b.both("crate", "sunk", true, 0.0, 1);
+    b.both("crate", "jammed", true, 0.0, 1);
+    b.both("crate", "near", true, 0.0, 1, 0.2);
+    out.push_back(b.scene);
+  }
+  {
+    // The sphere-sphere and thin-plate cases 1e5 from the origin: offsets are
+    // taken from the stored doubles, so the closed forms stay exact.
+    const Vec far(1e5, -1e5, 1e5);
+    const Vec target = far + Vec(4, 0.3, 0);
+    const double dy = target.y() - far.y();
+    const double r1 = std::sqrt(0.75 * 0.75 - dy * dy);
+    const double dx = target.x() - far.x();
+    Builder b("continuous", "far_from_origin",
+              "The sphere-sphere cast, thin plate and box ray 1e5 from the origin (offset (1e5, -1e5, 1e5)): the "
+              "same closed forms on the differences of the stored coordinates.");
+    b.shape(sphere("big", 0.5)).shape(sphere("small", 0.25)).shape(box("plate", Vec(1, 1, 0.005)));
+    b.shape(box("chip", Vec(0.01, 0.01, 0.01)));
+    b.moving("mover", "big", far, far + Vec(10, 0, 0));
+    b.body("target", "small", target);
+    b.body("plate", "plate", far);
+    b.moving("chip", "chip", far + Vec(0.2, 0.1, 5), far + Vec(0.2, 0.1, -5));
+    const Vec chip_start = far + Vec(0.2, 0.1, 5), chip_end = far + Vec(0.2, 0.1, -5);
+    const double drop = (chip_start.z() - far.z() - 0.015) / (chip_start.z() - chip_end.z());
+    b.both("mover", "target", true, (dx - r1) / 10, 10 * r1 / 0.75);
+    b.both("chip", "plate", true, drop, 10);
+    b.ray("plate", far + Vec(0.5, 0.5, 3), Vec(0, 0, -6), true, (3 - 0.005) / 6, 6);
+    out.push_back(b.scene);
+  }
+}
+
 const ShapeSpec* find_shape(const SceneSpec& scene, const std::string& name) {
   for (const ShapeSpec& s : scene.shapes)
     if (s.name == name) return &s;
@@ -912,6 +1142,8 @@ std::vector<SceneSpec> make_scenes(const std::vector<Mesh>& meshes) {
   extreme(out);
   large(out, by_name);
   degenerate(out);
+  continuous_rays(out);
+  continuous_sweeps(out);
   return out;
 }
 
@@ -943,7 +1175,147 @@ double pair_size(const collision::Shape& a, const collision::Pose& pose_a, const
   return half_gap + std::max(collision::bounding_radius(a), collision::bounding_radius(b));
 }
 
+namespace {
+
+// ---- continuous queries --------------------------------------------------------
+
+Eigen::Quaterniond quaternion(const Eigen::Vector4d& written) {
+  Eigen::Vector4d q = written / written.cwiseAbs().maxCoeff();
+  q.normalize();
+  return Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+}
+
+// A body's pose at t, for the reference: Eigen's slerp of the orientations
+// (toi; a cast keeps the start one) and a linear path of the origin.
+collision::Pose pose_at(const BodySpec& body, const std::string& type, double t) {
+  const Vec end = body.end_position.value_or(body.position);
+  const Eigen::Quaterniond q0 = quaternion(body.orientation);
+  const Eigen::Quaterniond q1 = type == "toi" ? quaternion(body.end_orientation.value_or(body.orientation)) : q0;
+  return collision::Pose::from_quaternion(q0.slerp(t, q1), body.position + t * (end - body.position));
+}
+
+double largest_coordinate(const SceneSpec& scene, const QuerySpec& q) {
+  double far = scene.body(q.a).position.cwiseAbs().maxCoeff();
+  if (!q.b.empty()) far = std::max(far, scene.body(q.b).position.cwiseAbs().maxCoeff());
+  if (q.type == "raycast") far = std::max(far, q.origin.cwiseAbs().maxCoeff());
+  return far;
+}
+
+// The reference's signed distance of the pair at t (a ray: of its point to
+// the body), as an interval [lower, upper].
+std::pair<double, double> reference_at(const SceneSpec& scene, const QuerySpec& q, double t) {
+  const BodySpec& body_a = scene.body(q.a);
+  const ShapeSpec& spec_a = scene.shape(body_a.shape);
+  reference::ExactSettings settings;
+  if (spec_a.type == "hull") settings.override_a = &spec_a.points;
+  reference::ExactResult r;
+  if (q.type == "raycast") {
+    r = reference::exact_signed_distance(build_shape(spec_a), build_pose(body_a), collision::Sphere{0.0, 0.0},
+                                         collision::Pose::from_translation(q.origin + t * q.direction), settings);
+  } else {
+    const BodySpec& body_b = scene.body(q.b);
+    const ShapeSpec& spec_b = scene.shape(body_b.shape);
+    if (spec_b.type == "hull") settings.override_b = &spec_b.points;
+    r = reference::exact_signed_distance(build_shape(spec_a), pose_at(body_a, q.type, t), build_shape(spec_b),
+                                         pose_at(body_b, q.type, t), settings);
+  }
+  if (!r.ok) throw std::runtime_error(scene.name + ": reference: " + r.reason);
+  return {r.distance - r.error_bound, r.distance + r.error_bound};
+}
+
+// The closed-form answer, with its tolerance, checked against the reference:
+// a hit at t > 0 has the target distance at t (within the tolerance times
+// the closing speed), a hit at 0 is within the target there, a miss stays
+// beyond the target at 101 sampled fractions (a sanity check of the closed
+// form, not a proof).
+Expectation expect_continuous(const SceneSpec& scene, const QuerySpec& q) {
+  Expectation e;
+  e.exact.ok = true;
+  const BodySpec& body_a = scene.body(q.a);
+  const collision::Shape a = build_shape(scene.shape(body_a.shape));
+  if (q.type == "raycast") {
+    e.pair_size = collision::bounding_radius(a);
+  } else {
+    const BodySpec& body_b = scene.body(q.b);
+    e.pair_size = pair_size(a, build_pose(body_a), build_shape(scene.shape(body_b.shape)), build_pose(body_b));
+  }
+  const double distance_tolerance =
+      kRelativeTolerance * e.pair_size + 64.0 * std::numeric_limits<double>::epsilon() * largest_coordinate(scene, q);
+  e.tolerance = q.closing_speed > 0.0 ? distance_tolerance / q.closing_speed : kRelativeTolerance;
+  e.hit = q.hit;
+  e.fraction = q.fraction;
+  const std::string where = scene.name + ": " + q.a + "-" + q.b + " " + q.type + ": the closed form ";
+  if (q.hit && q.fraction == 0.0) {
+    if (!(reference_at(scene, q, 0.0).first <= q.target_distance + distance_tolerance))
+      throw std::runtime_error(where + "says within the target at 0; the reference disagrees");
+  } else if (q.hit) {
+    const auto [lower, upper] = reference_at(scene, q, q.fraction);
+    if (!(lower <= q.target_distance + distance_tolerance && upper >= q.target_distance - distance_tolerance))
+      throw std::runtime_error(where + "fraction " + fmt(q.fraction) + ": the reference's distance there is [" +
+                               fmt(lower) + ", " + fmt(upper) + "], not the target " + fmt(q.target_distance));
+  } else {
+    for (int k = 0; k <= 100; ++k) {
+      const double t = q.max_fraction * k / 100.0;
+      if (!(reference_at(scene, q, t).second > q.target_distance))
+        throw std::runtime_error(where + "says a miss; the reference finds contact at " + fmt(t));
+    }
+  }
+  return e;
+}
+
+std::string check_continuous(const SceneSpec& scene, const QuerySpec& q, const Expectation& e) {
+  const BodySpec& body_a = scene.body(q.a);
+  const collision::Shape a = build_shape(scene.shape(body_a.shape));
+  collision::CastStatus status;
+  bool hit = false;
+  double fraction = 0.0;
+  if (q.type == "raycast") {
+    const collision::RaycastResult r = collision::raycast(a, build_pose(body_a), q.origin, q.direction, q.max_fraction);
+    status = r.status;
+    hit = r.hit;
+    fraction = r.fraction;
+  } else {
+    const BodySpec& body_b = scene.body(q.b);
+    const collision::Shape b = build_shape(scene.shape(body_b.shape));
+    collision::CastResult r;
+    if (q.type == "cast") {
+      collision::ShapeCastSettings settings;
+      settings.target_distance = q.target_distance;
+      r = collision::shape_cast(a, build_pose(body_a), body_a.end_position.value_or(body_a.position) - body_a.position,
+                                b, build_pose(body_b), body_b.end_position.value_or(body_b.position) - body_b.position,
+                                settings);
+    } else {
+      auto sweep = [](const BodySpec& body) {
+        BodySpec end = body;
+        end.position = body.end_position.value_or(body.position);
+        end.orientation = body.end_orientation.value_or(body.orientation);
+        return collision::Sweep{build_pose(body), build_pose(end)};
+      };
+      collision::ToiSettings settings;
+      settings.target_distance = q.target_distance;
+      r = collision::time_of_impact(a, sweep(body_a), b, sweep(body_b), settings);
+    }
+    status = r.status;
+    hit = r.hit;
+    fraction = r.fraction;
+  }
+  std::string problems;
+  auto add = [&](const std::string& s) { problems += (problems.empty() ? "" : "; ") + s; };
+  if (status != collision::CastStatus::hit && status != collision::CastStatus::separated &&
+      status != collision::CastStatus::initially_overlapping)
+    add(std::string("status ") + collision::to_string(status));
+  if (hit != *e.hit) add(std::string("hit ") + (hit ? "true" : "false"));
+  const double error = std::abs(fraction - *e.fraction);
+  if (!(error <= e.tolerance))
+    add("fraction " + fmt(fraction) + " (expected " + fmt(*e.fraction) + ", error " + fmt(error) + " > " +
+        fmt(e.tolerance) + ")");
+  return problems;
+}
+
+}  // namespace
+
 Expectation expect(const SceneSpec& scene, const QuerySpec& query) {
+  if (query.continuous()) return expect_continuous(scene, query);
   const BodySpec& body_a = scene.body(query.a);
   const BodySpec& body_b = scene.body(query.b);
   const ShapeSpec& spec_a = scene.shape(body_a.shape);
@@ -990,6 +1362,7 @@ Expectation expect(const SceneSpec& scene, const QuerySpec& query) {
 }
 
 std::string check_hedra(const SceneSpec& scene, const QuerySpec& query, const Expectation& e) {
+  if (query.continuous()) return check_continuous(scene, query, e);
   const BodySpec& body_a = scene.body(query.a);
   const BodySpec& body_b = scene.body(query.b);
   const collision::Shape a = build_shape(scene.shape(body_a.shape)), b = build_shape(scene.shape(body_b.shape));

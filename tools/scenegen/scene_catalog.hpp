@@ -32,6 +32,17 @@
 //                 e.g. 4 for a box face inside a larger face, 0 when
 //                 separated, with the tool's contact distance 0).
 // The catalog refuses a query whose expectation would be empty.
+//
+// Continuous queries (scenes/continuous/: raycast, cast, toi) carry closed-
+// form answers written with the scene (each description says how): `hit`
+// and `fraction`, with tolerance (1e-9 * size + 64 eps * the largest start
+// coordinate) / closing speed, the size being the pair size (a ray: the
+// body's bounding radius) and the closing speed how fast the distance
+// shrinks at the contact (the closed form's; the ray's speed along the
+// normal). expect() checks every closed-form hit against the exact reference:
+// the exact signed distance of the pair posed at the fraction (poses from
+// Eigen's slerp, independent of hedra's Sweep) must be the target within
+// that tolerance times the speed, and a ray's point must lie on the surface.
 #pragma once
 
 #include <Eigen/Core>
@@ -67,13 +78,25 @@ struct BodySpec {
   std::string name;
   std::string shape;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  Eigen::Vector4d orientation{1, 0, 0, 0};  // [w, x, y, z] as written
+  Eigen::Vector4d orientation{1, 0, 0, 0};         // [w, x, y, z] as written
+  std::optional<Eigen::Vector3d> end_position;     // continuous queries
+  std::optional<Eigen::Vector4d> end_orientation;  // [w, x, y, z] as written
 };
 
 struct QuerySpec {
-  std::string a, b;
-  std::string type;                  // intersect, distance, penetration, contact
+  std::string a, b;                  // raycast: a is the body, b empty
+  std::string type;                  // intersect, distance, penetration, contact, raycast, cast, toi
   std::optional<int> contact_count;  // contact: the number of points the geometry determines
+  // Continuous queries: the ray (raycast), the target distance (cast, toi),
+  // and the closed-form answer with the closing speed at the contact.
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+  double max_fraction = 1.0;
+  double target_distance = 0.0;
+  bool hit = false;
+  double fraction = 1.0;
+  double closing_speed = 0.0;
+  bool continuous() const { return type == "raycast" || type == "cast" || type == "toi"; }
 };
 
 struct SceneSpec {
@@ -93,6 +116,8 @@ struct Expectation {
   std::optional<double> distance;
   std::optional<Eigen::Vector3d> normal;
   std::optional<int> contact_count;
+  std::optional<bool> hit;         // continuous queries
+  std::optional<double> fraction;  // continuous queries (tolerance: on the fraction)
   double tolerance = 0.0;
   double angle_tolerance = 0.0;
   reference::ExactResult exact;  // what the expectation came from

@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <hedra/collision/time_of_impact.hpp>
 #include <hedra/hull/mass.hpp>
 #include <hedra/hull/mesh_io.hpp>
 #include <hedra/hull/quickhull.hpp>
@@ -43,10 +44,66 @@ std::string default_output(const std::string& input) { return std::filesystem::p
 
 namespace view {
 
+namespace {
+
+// The pose of a moving body at `t`: cast translates at the start
+// orientation, toi follows the whole sweep (collision::pose_at).
+collision::Pose pose_at(QueryType type, const BodySpec& body, double t) {
+  const collision::Sweep sweep{body.pose(), body.end_pose()};
+  if (type == QueryType::toi) return collision::pose_at(sweep, t);
+  collision::Pose pose = sweep.start;
+  pose.translation = body.position + t * (body.end_position - body.position);
+  return pose;
+}
+
+// The continuous part of a query's view: the ray, or each moving body at
+// its start, its end and the query's fraction. False with `error` set when
+// a pose cannot be drawn.
+bool add_continuous(const Scene& scene, const BuiltScene& built, const QuerySpec& spec, const QueryOutcome& outcome,
+                    ViewQuery& query, std::string& error) {
+  query.hit = outcome.hit;
+  query.fraction = outcome.fraction;
+  query.intersecting = std::nullopt;  // a continuous query answers hit instead
+  if (spec.type == QueryType::raycast) {
+    ViewRay ray;
+    ray.origin = spec.origin;
+    ray.end = spec.origin + spec.max_fraction * spec.direction;
+    if (outcome.hit && outcome.point) ray.hit_point = *outcome.point;
+    query.ray = ray;
+    query.point_a = query.point_b = std::nullopt;
+    if (!outcome.hit) query.normal = std::nullopt;
+    return true;
+  }
+  query.initially_overlapping = outcome.initially_overlapping;
+  if (!outcome.hit) query.point_a = query.point_b = query.normal = std::nullopt;
+  for (std::size_t index : {spec.a, spec.b}) {
+    const BodySpec& body = scene.bodies[index];
+    const bool moves = body.end_position != body.position ||
+                       (spec.type == QueryType::toi && !body.end_orientation.isApprox(body.orientation, 0.0));
+    if (!moves || (index == spec.b && spec.b == spec.a)) continue;
+    const collision::Shape& shape = *built.shapes[body.shape];
+    ViewSweep sweep;
+    sweep.body = body.name;
+    ViewBody drawn;
+    const double t = outcome.fraction;
+    if (!make_view_body(body.name, shape, pose_at(spec.type, body, 0.0), drawn, error)) return false;
+    sweep.start = std::move(drawn.mesh);
+    if (!make_view_body(body.name, shape, pose_at(spec.type, body, 1.0), drawn, error)) return false;
+    sweep.end = std::move(drawn.mesh);
+    if (!make_view_body(body.name, shape, pose_at(spec.type, body, t), drawn, error)) return false;
+    sweep.at_fraction = std::move(drawn.mesh);
+    query.sweeps.push_back(std::move(sweep));
+  }
+  return true;
+}
+
+}  // namespace
+
 // The scene is loaded with the same validation and messages as `hedra
 // query`; every body's shape is built (all of them, not only those the
 // queries use: the viewer draws them all) and every query runs as `hedra
-// query` runs it.
+// query` runs it. A continuous query also draws its ray, or each moving
+// body at its start, its end and the query's fraction.
 std::optional<ViewModel> build_scene_view_model(const std::string& scene_path, std::string& error) {
   const LoadSceneResult loaded = load_scene(scene_path);
   if (!loaded.ok()) {
@@ -90,6 +147,10 @@ std::optional<ViewModel> build_scene_view_model(const std::string& scene_path, s
     query.point_b = outcome.point_b;
     query.normal = outcome.normal;
     for (const ContactPoint& contact : outcome.contacts) query.contacts.push_back({contact.point, contact.depth});
+    if (is_continuous(spec.type) && !add_continuous(scene, *built.built, spec, outcome, query, error)) {
+      error = scene.file + ": queries[" + std::to_string(i) + "]: cannot draw: " + error;
+      return std::nullopt;
+    }
     model.queries.push_back(std::move(query));
   }
   return model;

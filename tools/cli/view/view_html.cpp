@@ -72,6 +72,24 @@ Json model_json(const ViewModel& model) {
       contacts.push_back({{"point", vector_json(contact.point)}, {"depth", contact.depth}});
     }
     q["contacts"] = std::move(contacts);
+    q["hit"] = optional_json(query.hit);
+    q["fraction"] = optional_json(query.fraction);
+    q["initially_overlapping"] = optional_json(query.initially_overlapping);
+    Json sweeps = Json::array();
+    for (const ViewSweep& sweep : query.sweeps) {
+      sweeps.push_back({{"body", sweep.body},
+                        {"start", mesh_json(sweep.start)},
+                        {"end", mesh_json(sweep.end)},
+                        {"at_fraction", mesh_json(sweep.at_fraction)}});
+    }
+    q["sweeps"] = std::move(sweeps);
+    if (query.ray) {
+      q["ray"] = {{"origin", vector_json(query.ray->origin)},
+                  {"end", vector_json(query.ray->end)},
+                  {"hit_point", optional_json(query.ray->hit_point)}};
+    } else {
+      q["ray"] = nullptr;
+    }
     queries.push_back(std::move(q));
   }
   document["queries"] = std::move(queries);

@@ -49,15 +49,37 @@ struct ViewContact {
   double depth = 0.0;  // > 0 penetration, < 0 speculative (inside the margin)
 };
 
+// A moving body of a continuous query, drawn in three poses: where it
+// starts, where it ends and where it is at the query's fraction (the time of
+// impact; the end pose again when nothing is hit).
+struct ViewSweep {
+  std::string body;  // body name
+  PolygonMesh start, end, at_fraction;
+};
+
+// A raycast query's ray: from origin to origin + max_fraction direction,
+// and the hit point when there is one.
+struct ViewRay {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d end = Eigen::Vector3d::Zero();
+  std::optional<Eigen::Vector3d> hit_point;
+};
+
 struct ViewQuery {
-  std::string a, b;    // body names
-  std::string type;    // "intersect", "distance", "penetration", "contact"
+  std::string a, b;    // body names (raycast: both the body)
+  std::string type;    // "intersect", "distance", "penetration", "contact", "raycast", "cast", "toi"
   std::string status;  // "ok" or the word saying what went wrong
   std::optional<bool> intersecting;
   std::optional<double> distance;  // signed for penetration and contact
   std::optional<Eigen::Vector3d> point_a, point_b;
   std::optional<Eigen::Vector3d> normal;  // unit, from A toward B
   std::vector<ViewContact> contacts;
+  // Continuous queries (raycast, cast, toi).
+  std::optional<bool> hit;
+  std::optional<double> fraction;
+  std::optional<bool> initially_overlapping;
+  std::vector<ViewSweep> sweeps;  // cast, toi: each body that moves
+  std::optional<ViewRay> ray;     // raycast
 };
 
 // One half-edge of the hull (indices into ViewHull's arrays).

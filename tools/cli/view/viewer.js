@@ -11,8 +11,12 @@
 // body's core is drawn as lighter edges inside); every query draws its
 // witness points (A red, B blue), the segment between them, the normal as an
 // arrow from A, and its contact points (orange: penetrating, teal:
-// speculative). Clicking a query in the panel shows only that query and
-// highlights its pair; clicking it again shows all.
+// speculative). Continuous queries: a cast's or toi's moving bodies are drawn
+// at their start and end (ghosted edges, dashed at the end) and solid at the
+// query's fraction; a raycast's ray is a line from its origin to its last
+// point with the hit point (A red) and the surface normal there. Clicking a
+// query in the panel shows only that query and highlights its pair; clicking
+// it again shows all.
 // Hulls: input points (grey), hull vertices (dark), faces, edges; clicking a
 // face (or typing its number) lists its half-edges and draws them as arrows.
 // Rendering is on demand (after a camera move, a selection or a resize).
@@ -77,6 +81,11 @@
     grow(q.point_a);
     grow(q.point_b);
     (q.contacts || []).forEach((c) => grow(c.point));
+    (q.sweeps || []).forEach((s) => [s.start, s.end, s.at_fraction].forEach((m) => m.vertices.forEach(grow)));
+    if (q.ray) {
+      grow(q.ray.origin);
+      grow(q.ray.end);
+    }
   });
   if (hull) {
     hull.vertices.forEach(grow);
@@ -131,9 +140,30 @@
       item.setAttribute('data-query', String(i));
       const ok = q.status === 'ok';
       item.appendChild(el('span', 'hedra-status ' + (ok ? 'ok' : 'bad'), q.status || 'n/a'));
-      item.appendChild(el('b', null, '#' + i + ' ' + q.a + ' – ' + q.b));
+      item.appendChild(el('b', null, '#' + i + ' ' + (q.ray ? 'ray – ' + q.a : q.a + ' – ' + q.b)));
       item.appendChild(document.createTextNode(' ' + q.type));
       const table = el('table');
+      if (q.ray || q.type === 'cast' || q.type === 'toi') {
+        row(table, 'hit', fmt(q.hit));
+        row(table, 'fraction', fmt(q.fraction));
+        if (q.ray) {
+          row(table, 'origin', fmt(q.ray.origin), 'mono');
+          row(table, 'hit point', fmt(q.ray.hit_point), 'mono');
+          row(table, 'normal', fmt(q.normal), 'mono');
+        } else {
+          row(table, 'initially overlapping', fmt(q.initially_overlapping));
+          row(table, 'distance', fmt(q.distance));
+          row(table, 'point A', fmt(q.point_a), 'mono');
+          row(table, 'point B', fmt(q.point_b), 'mono');
+          row(table, 'normal', fmt(q.normal), 'mono');
+          row(table, 'moving', (q.sweeps || []).map((s) => s.body).join(', ') || 'none');
+        }
+        item.appendChild(table);
+        item.addEventListener('click', () => selectQuery(i));
+        panel.appendChild(item);
+        queryItems.push(item);
+        return;
+      }
       row(table, 'intersecting', fmt(q.intersecting));
       row(table, 'distance', fmt(q.distance));
       row(table, 'point A', fmt(q.point_a), 'mono');
@@ -295,9 +325,50 @@
   // Queries.
   const sphereGeometry = new THREE.SphereBufferGeometry(marker, 16, 12);
   const contactGeometry = new THREE.OctahedronBufferGeometry(marker * 0.9);
+  let sweepPoses = 0, rays = 0;
+  // A moving body's pose: solid faces at the fraction, ghosted edges (dashed
+  // at the end) at the start and the end.
+  function addSweep(group, s) {
+    const color = palette[(bodyIndex.has(s.body) ? bodyIndex.get(s.body) : 0) % palette.length];
+    [['start', 0.3, false], ['end', 0.3, true], ['at_fraction', 1, false]].forEach(([key, opacity, dashed]) => {
+      const m = s[key];
+      const points = m.vertices.map(local);
+      const material = dashed
+        ? new THREE.LineDashedMaterial({color: darker(color, 0.6), transparent: true, opacity: opacity,
+          dashSize: marker, gapSize: marker})
+        : new THREE.LineBasicMaterial({color: darker(color, key === 'at_fraction' ? 0.45 : 0.6), transparent: true,
+          opacity: opacity});
+      const lines = new THREE.LineSegments(segmentGeometry(points, m.edges), material);
+      if (dashed) lines.computeLineDistances();
+      group.add(lines);
+      if (key === 'at_fraction' && m.faces.length > 0) {
+        const positions = [];
+        fanTriangles(points, m.faces, positions);
+        group.add(new THREE.Mesh(triangleGeometry(positions), new THREE.MeshPhongMaterial({
+          color: color, transparent: true, opacity: 0.7, side: THREE.DoubleSide, flatShading: true,
+          polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1})));
+      }
+      ++sweepPoses;
+    });
+  }
   const queryViews = queries.map((q) => {
     const group = new THREE.Group();
     const view = {group: group, a: null, b: null, contacts: []};
+    (q.sweeps || []).forEach((s) => addSweep(group, s));
+    if (q.ray && finitePoint(q.ray.origin) && finitePoint(q.ray.end)) {
+      const g = new THREE.BufferGeometry().setFromPoints([local(q.ray.origin), local(q.ray.end)]);
+      group.add(new THREE.Line(g, new THREE.LineBasicMaterial({color: 0x111111})));
+      const o = new THREE.Mesh(sphereGeometry, new THREE.MeshBasicMaterial({color: 0x111111}));
+      o.position.copy(local(q.ray.origin));
+      group.add(o);
+      if (finitePoint(q.ray.hit_point)) {
+        view.a = local(q.ray.hit_point);
+        const m = new THREE.Mesh(sphereGeometry, new THREE.MeshBasicMaterial({color: colorA}));
+        m.position.copy(view.a);
+        group.add(m);
+      }
+      ++rays;
+    }
     if (finitePoint(q.point_a)) {
       view.a = local(q.point_a);
       const m = new THREE.Mesh(sphereGeometry, new THREE.MeshBasicMaterial({color: colorA}));
@@ -544,6 +615,8 @@
   // ---- first render ---------------------------------------------------------
   root.setAttribute('data-hedra-bodies', String(bodyViews.length));
   root.setAttribute('data-hedra-queries', String(queryViews.length));
+  root.setAttribute('data-hedra-sweep-poses', String(sweepPoses));
+  root.setAttribute('data-hedra-rays', String(rays));
   root.setAttribute('data-hedra-hull-faces', String(hull ? hull.faces.length : 0));
   applyQuerySelection();
   const hash = window.location.hash;
