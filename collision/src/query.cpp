@@ -3,6 +3,9 @@
 // Polyhedron support hints travel through the caller's GjkCache.
 #include <algorithm>
 #include <cmath>
+#include <hedra/collision/epa.hpp>
+#include <hedra/collision/gjk.hpp>
+#include <hedra/collision/minkowski.hpp>
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/revolution.hpp>
 #include <hedra/collision/tilted_revolution.hpp>

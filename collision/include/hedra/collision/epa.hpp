@@ -117,16 +117,6 @@ inline constexpr int kEpaMaxVertices = 128;
 // A convex polytope with V vertices has at most 2V - 4 triangles.
 inline constexpr int kEpaMaxFaces = 2 * kEpaMaxVertices;
 
-struct EpaSettings {
-  int max_iterations = 128;
-  // Stop once h(n) - d <= max(relative_tolerance * d, absolute_tolerance *
-  // scale), scale being the shapes' size.
-  double relative_tolerance = 1e-10;
-  double absolute_tolerance = 1e-10;
-  // Extents of D below flat_tolerance * scale count as zero (D is flat).
-  double flat_tolerance = 1e-10;
-};
-
 struct EpaResult {
   EpaStatus status = EpaStatus::ok;
   // Signed: > 0 the shapes overlap; <= 0 only when the origin is on or a
@@ -163,10 +153,6 @@ Vertex support(const A& a, const B& b, const Eigen::Vector3d& d) {
 // w = a - b is finite exactly when a and b are (an infinite or NaN operand
 // gives an infinite or NaN difference), and w also catches an overflow.
 inline bool finite(const Vertex& v) { return v.w.allFinite(); }
-
-using gjk_detail::area_vector;
-using gjk_detail::cross3;
-using gjk_detail::dot3;
 
 // Parameter in [0, 1] of the point of segment p0 p1 closest to x.
 inline double segment_parameter(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& x) {
@@ -595,7 +581,7 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
         dirs[count++] = -d;
       }
     } else {
-      const Eigen::Vector3d n = epa_detail::area_vector(p[0].w, p[1].w, p[2].w).stableNormalized();
+      const Eigen::Vector3d n = area_vector(p[0].w, p[1].w, p[2].w).stableNormalized();
       dirs[count++] = n;
       dirs[count++] = -n;
     }
@@ -653,7 +639,7 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
       r.status = EpaStatus::degenerate;
       break;
     }
-    const double h = epa_detail::dot3(f.n, s.w);
+    const double h = dot3(f.n, s.w);
     if (h < upper) {
       upper = h;
       upper_n = f.n;

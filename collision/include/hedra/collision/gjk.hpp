@@ -68,7 +68,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <hedra/hull/half_edge_mesh.hpp>
+#include <hedra/collision/settings.hpp>
+#include <hedra/collision/vector_math.hpp>
 #include <limits>
 
 namespace hedra::collision {
@@ -93,24 +94,6 @@ inline const char* to_string(GjkStatus status) {
   }
   return "unknown";
 }
-
-struct GjkSettings {
-  int max_iterations = 128;
-  // The loop stops once the certified distance error is below
-  // max(relative_tolerance * distance, absolute_tolerance * scale), scale
-  // being the shapes' size (bounding radius).
-  double relative_tolerance = 1e-10;
-  double absolute_tolerance = 1e-10;
-};
-
-// Per-pair state the caller may keep between queries (frames: A's core frame,
-// so it stays valid while the pair moves rigidly).
-struct GjkCache {
-  bool valid = false;
-  Eigen::Vector3d axis = Eigen::Vector3d::Zero();  // last v = point_a - point_b
-  hull::Index hint_a = 0;                          // last support vertices of
-  hull::Index hint_b = 0;                          // polyhedra (climb starts)
-};
 
 struct GjkSimplex {
   int size = 0;
@@ -201,46 +184,6 @@ inline void s1d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, Sub& ou
   } else {
     vertex(w, i1, out);  // beyond p1
   }
-}
-
-// a . b and a x b written out per coordinate, in Eigen's order for one
-// 3-vector (dot: (a0 b0 + a1 b1) + a2 b2), so the results are the same bits;
-// Eigen's SSE2 code for a lone 3-vector (a packet of two, shuffles, a scalar
-// third) costs more instructions in GJK's and EPA's inner loops.
-inline double dot3(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return (a.x() * b.x() + a.y() * b.y()) + a.z() * b.z();
-}
-inline Eigen::Vector3d cross3(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return {a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(), a.x() * b.y() - a.y() * b.x()};
-}
-
-// Twice the area vector of triangle p0 p1 p2 (normal, length twice the
-// area), accurate in direction on slivers too: the cross product of the two
-// edges that meet opposite the longest one (the most accurate pair: the
-// rounding of e_i x e_j grows with |e_i| |e_j|; all three pairs give the
-// same vector in exact arithmetic), then its component along the longest
-// edge removed. Why: on a sliver (length L, height h) the cross product's
-// rounding, eps L^2, is eps L / h of its length and tilts it in any
-// direction; a tilt about an axis across the triangle moves the plane by L
-// times the tilt at the triangle's ends (found by fuzzing: on a needle of
-// aspect 1.3e9, 2280 long, GJK's v left the Minkowski difference by 3.8e-7
-// and the distance came out 1.28e-6 for 1.66e-6, "ok" with a bound of
-// 5e-8; EPA's face planes on needles gave "ok" depths outside their bound).
-// After the projection the normal is orthogonal to the longest edge to
-// rounding; what remains is a tilt about that edge, which moves the
-// triangle's points (all within h of the edge's line) by at most eps L.
-// Costs 2-5 % of a query's instructions (bench/penetration_profile).
-inline Eigen::Vector3d area_vector(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) {
-  const Eigen::Vector3d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
-  const double l0 = dot3(e0, e0), l1 = dot3(e1, e1), l2 = dot3(e2, e2);
-  const bool longest0 = l0 >= l1 && l0 >= l2, longest1 = !longest0 && l1 >= l2;
-  const Eigen::Vector3d& longest = longest0 ? e0 : (longest1 ? e1 : e2);
-  const double ll = longest0 ? l0 : (longest1 ? l1 : l2);
-  Eigen::Vector3d n = longest0 ? cross3(e1, e2) : (longest1 ? cross3(e2, e0) : cross3(e0, e1));
-  // ll > 0 unless all three points coincide (n = 0 then); a non-finite ll
-  // makes n non-finite, which every caller treats as degenerate.
-  if (ll > 0.0) n -= (dot3(n, longest) / ll) * longest;
-  return n;
 }
 
 // Triangle w[i0] w[i1] w[i2]. `newest` (one of the three indices, or -1):

@@ -39,9 +39,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <hedra/collision/epa.hpp>
-#include <hedra/collision/gjk.hpp>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/pose.hpp>
+#include <hedra/collision/settings.hpp>
 #include <hedra/collision/shapes.hpp>
 
 namespace hedra::collision {
