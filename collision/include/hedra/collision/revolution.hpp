@@ -33,7 +33,7 @@
 // the true one; the reduction is used only when that bound is below the
 // EPA tolerance, and it is reported in error_bound. Otherwise (or when the
 // origin is not strictly inside the section, or both cores are points) the
-// caller runs EPA. With `any_tilt` the reduction answers whatever the tilt
+// caller runs EPA. With RevolutionTilt::any the reduction answers whatever the tilt
 // (error_bound then includes theta R_B): a bracket the caller combines with
 // EPA's when EPA could not converge (nearly coaxial cylinders, whose depth
 // is almost the same over a circle of directions).
@@ -112,10 +112,16 @@ inline double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const E
 // curved, and the origin is inside D's section; false otherwise (run EPA).
 // Same conventions as epa_penetration: point_a - point_b = depth * normal,
 // normal from A toward B.
+// Which tilt between the two axes revolution_penetration accepts.
+enum class RevolutionTilt {
+  within_tolerance,  // theta R_B within half the EPA tolerance: the exact answer
+  any,               // any finite tilt, theta R_B in error_bound: a bracket
+};
+
 template <class CA, class CB>
 bool revolution_penetration(const CA& core_a, const CB& core_b, const RelativePose& relative, double scale,
                             const Eigen::Vector3d& preferred, const EpaSettings& settings, EpaResult& out,
-                            bool any_tilt = false) {
+                            RevolutionTilt accepted = RevolutionTilt::within_tolerance) {
   using revolution_detail::Section;
   const Section sa = revolution_detail::section_of(core_a);
   const Section sb = revolution_detail::section_of(core_b);
@@ -128,7 +134,7 @@ bool revolution_penetration(const CA& core_a, const CB& core_b, const RelativePo
   const double tilt = sb.free_axis ? 0.0 : std::atan2(k.cross(kb).norm(), std::abs(k.dot(kb)));
   const double tilt_bound = tilt * sb.radius;
   const double tolerance = settings.absolute_tolerance * size;
-  if (!(tilt_bound <= 0.5 * tolerance) && !(any_tilt && std::isfinite(tilt_bound))) return false;
+  if (!(tilt_bound <= 0.5 * tolerance) && !(accepted == RevolutionTilt::any && std::isfinite(tilt_bound))) return false;
 
   // The origin in D's section: D's axis passes through -t (A's axis through
   // the origin, -B's through -t), so the origin sits at t from it.
