@@ -531,121 +531,144 @@ inline int reduce_simplex(std::array<Vertex, 4>& p, int k, double flat) {
   return k;
 }
 
-}  // namespace epa_detail
+// The tolerances of one query, from the settings and the pair's size.
+struct Tolerances {
+  double size;      // the pair's scale (0 when not finite and positive)
+  double flat;      // extents below it count as zero
+  double absolute;  // the absolute convergence tolerance
+  double visible;   // how far above a face w must be to remove it
+  double noise;     // rounding of a point of D
+};
 
-// Penetration depth of A and B (support types in one common frame) whose
-// overlap (or touching) GJK has established: `simplex` is GJK's final simplex
-// (its hull contains or touches the origin), `scale` the shapes' size,
-// `preferred` a direction from A toward B used only to orient the normal of
-// a flat D (e.g. B's centre minus A's).
+inline Tolerances tolerances_of(const EpaSettings& settings, double scale) {
+  Tolerances t;
+  t.size = std::isfinite(scale) && scale > 0.0 ? scale : 0.0;
+  t.flat = settings.flat_tolerance * t.size;
+  t.absolute = settings.absolute_tolerance * t.size;
+  t.visible = 1e-3 * t.absolute;
+  t.noise = 64.0 * std::numeric_limits<double>::epsilon() * t.size;
+  return t;
+}
+
+// The directions along which a flat simplex of k points (1..3) grows: any
+// axis for a point, perpendiculars for a segment, +-normal for a triangle.
+inline int growth_directions(const std::array<Vertex, 4>& p, int k, std::array<Eigen::Vector3d, 8>& dirs) {
+  int count = 0;
+  if (k == 1) {
+    for (int axis = 0; axis < 3; ++axis) {
+      dirs[count++] = Eigen::Vector3d::Unit(axis);
+      dirs[count++] = -Eigen::Vector3d::Unit(axis);
+    }
+  } else if (k == 2) {
+    const Eigen::Vector3d e = (p[1].w - p[0].w).stableNormalized();
+    const Eigen::Vector3d u = e.unitOrthogonal(), v = e.cross(u);
+    for (const Eigen::Vector3d& d :
+         {u, v, Eigen::Vector3d((u + v).stableNormalized()), Eigen::Vector3d((u - v).stableNormalized())}) {
+      dirs[count++] = d;
+      dirs[count++] = -d;
+    }
+  } else {
+    const Eigen::Vector3d n = area_vector(p[0].w, p[1].w, p[2].w).stableNormalized();
+    dirs[count++] = n;
+    dirs[count++] = -n;
+  }
+  return count;
+}
+
+// Phase 1: GJK's simplex reduced (reduce_simplex), then grown along its
+// degenerate directions into a tetrahedron of positive volume in `poly`:
+// the first candidate that stands comfortably off the affine hull (1e-3 of
+// the size) is taken, otherwise the farthest of all if it beats `flat`.
+// Returns false when `r` is already the answer (degenerate input, or a flat
+// D whose answer flat_result gives).
 template <class A, class B>
-EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, double scale,
-                          const Eigen::Vector3d& preferred, const EpaSettings& settings = {}) {
-  using epa_detail::Vertex;
-  EpaResult r;
-  const double size = std::isfinite(scale) && scale > 0.0 ? scale : 0.0;
-  const double flat = settings.flat_tolerance * size;
-  const double abs_tolerance = settings.absolute_tolerance * size;
-  const double visible = 1e-3 * abs_tolerance;
-  const double noise = 64.0 * std::numeric_limits<double>::epsilon() * size;
-
-  // ---- 1. a tetrahedron from GJK's simplex -------------------------------
+bool start_polytope(const A& a, const B& b, const GjkSimplex& simplex, const Eigen::Vector3d& preferred,
+                    const Tolerances& tol, Polytope& poly, EpaResult& r) {
   std::array<Vertex, 4> p;
   int k = std::clamp(simplex.size, 0, 4);
   for (int i = 0; i < k; ++i) p[i] = {simplex.w[i], simplex.a[i], simplex.b[i]};
   for (int i = 0; i < k; ++i)
-    if (!epa_detail::finite(p[i])) k = 0;
+    if (!finite(p[i])) k = 0;
   if (k == 0) {
     // Why: GJK failed before the loop (non-finite input); nothing to expand.
     r.status = EpaStatus::degenerate;
-    return r;
+    return false;
   }
-  k = epa_detail::reduce_simplex(p, k, flat);
-  // Grow along the simplex's degenerate directions: the first candidate that
-  // stands comfortably off the affine hull (1e-3 of the size) is taken,
-  // otherwise the farthest of all if it beats `flat`.
+  k = reduce_simplex(p, k, tol.flat);
   while (k < 4) {
     std::array<Eigen::Vector3d, 8> dirs;
-    int count = 0;
-    if (k == 1) {
-      for (int axis = 0; axis < 3; ++axis) {
-        dirs[count++] = Eigen::Vector3d::Unit(axis);
-        dirs[count++] = -Eigen::Vector3d::Unit(axis);
-      }
-    } else if (k == 2) {
-      const Eigen::Vector3d e = (p[1].w - p[0].w).stableNormalized();
-      const Eigen::Vector3d u = e.unitOrthogonal(), v = e.cross(u);
-      for (const Eigen::Vector3d& d :
-           {u, v, Eigen::Vector3d((u + v).stableNormalized()), Eigen::Vector3d((u - v).stableNormalized())}) {
-        dirs[count++] = d;
-        dirs[count++] = -d;
-      }
-    } else {
-      const Eigen::Vector3d n = area_vector(p[0].w, p[1].w, p[2].w).stableNormalized();
-      dirs[count++] = n;
-      dirs[count++] = -n;
-    }
+    const int count = growth_directions(p, k, dirs);
     Vertex best = p[0];
     double best_height = -1.0;
     for (int i = 0; i < count; ++i) {
-      const Vertex s = epa_detail::support(a, b, dirs[i]);
+      const Vertex s = support(a, b, dirs[i]);
       ++r.support_calls;
-      if (!epa_detail::finite(s)) {
+      if (!finite(s)) {
         r.status = EpaStatus::degenerate;
-        return r;
+        return false;
       }
-      const double height = epa_detail::affine_distance(p, k, s.w);
+      const double height = affine_distance(p, k, s.w);
       if (height > best_height) {
         best_height = height;
         best = s;
       }
-      if (best_height > 1e-3 * size) break;
+      if (best_height > 1e-3 * tol.size) break;
     }
-    if (!(best_height > flat)) return epa_detail::flat_result(p, k, preferred, noise, flat);
+    if (!(best_height > tol.flat)) {
+      r = flat_result(p, k, preferred, tol.noise, tol.flat);
+      return false;
+    }
     p[k++] = best;
   }
-  epa_detail::Polytope poly;
-  {
-    const double det = (p[1].w - p[0].w).dot((p[2].w - p[0].w).cross(p[3].w - p[0].w));
-    if (det < 0.0) std::swap(p[1], p[2]);
-    for (int i = 0; i < 4; ++i) poly.vertex[i] = p[i];
-    poly.vertex_count = 4;
-    if (!poly.init_tetrahedron()) {
-      // Unreachable after reduce_simplex (every face has area), kept as a
-      // guard: report the flat answer rather than divide by zero.
-      return epa_detail::flat_result(p, 3, preferred, noise, flat);
-    }
+  const double det = (p[1].w - p[0].w).dot((p[2].w - p[0].w).cross(p[3].w - p[0].w));
+  if (det < 0.0) std::swap(p[1], p[2]);
+  for (int i = 0; i < 4; ++i) poly.vertex[i] = p[i];
+  poly.vertex_count = 4;
+  if (!poly.init_tetrahedron()) {
+    // Unreachable after reduce_simplex (every face has area), kept as a
+    // guard: report the flat answer rather than divide by zero.
+    r = flat_result(p, 3, preferred, tol.noise, tol.flat);
+    return false;
   }
+  return true;
+}
 
-  // ---- 2. expansion -------------------------------------------------------
-  // The smallest support value seen, its direction and support point: an
-  // upper bound on the depth, and a valid separating translation.
+// The smallest support value seen, its direction and support point: an
+// upper bound on the depth, and a valid separating translation.
+struct BestSupport {
   double upper = std::numeric_limits<double>::infinity();
-  Eigen::Vector3d upper_n = Eigen::Vector3d::UnitX();
-  Vertex upper_s = poly.vertex[0];
-  int best = poly.closest_face();
+  Eigen::Vector3d n = Eigen::Vector3d::UnitX();
+  Vertex s;
+};
+
+// Phase 2: the expansion, until the nearest face's plane is supporting
+// within the tolerance or a cap, a full polytope or rounding stops it (the
+// status in `r`). Returns the nearest face at the end.
+template <class A, class B>
+int expand_polytope(const A& a, const B& b, const EpaSettings& settings, const Tolerances& tol, Polytope& poly,
+                    BestSupport& best_support, EpaResult& r) {
   for (;;) {
-    best = poly.closest_face();
-    const epa_detail::Face& f = poly.face[best];
+    const int best = poly.closest_face();
+    const Face& f = poly.face[best];
     if (r.iterations >= settings.max_iterations) {
       r.status = EpaStatus::max_iterations;
-      break;
+      return best;
     }
     ++r.iterations;
-    const Vertex s = epa_detail::support(a, b, f.n);
+    const Vertex s = support(a, b, f.n);
     ++r.support_calls;
-    if (!epa_detail::finite(s)) {
+    if (!finite(s)) {
       // Why: a support mapping returned NaN/inf (corrupt shape or pose).
       r.status = EpaStatus::degenerate;
-      break;
+      return best;
     }
     const double h = dot3(f.n, s.w);
-    if (h < upper) {
-      upper = h;
-      upper_n = f.n;
-      upper_s = s;
+    if (h < best_support.upper) {
+      best_support.upper = h;
+      best_support.n = f.n;
+      best_support.s = s;
     }
-    if (h - f.d <= std::max(settings.relative_tolerance * std::max(f.d, 0.0), abs_tolerance)) break;
+    if (h - f.d <= std::max(settings.relative_tolerance * std::max(f.d, 0.0), tol.absolute)) return best;
     bool duplicate = false;
     for (int i = 0; i < poly.vertex_count && !duplicate; ++i) duplicate = poly.vertex[i].w == s.w;
     if (duplicate) {
@@ -653,58 +676,64 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
       // the tolerance means rounding made P non-convex; adding it again
       // would make a zero-area face.
       r.status = EpaStatus::stalled;
-      break;
+      return best;
     }
-    const auto expansion = poly.expand(best, s, visible, r.iterations);
-    if (expansion == epa_detail::Polytope::Expansion::full) {
+    const auto expansion = poly.expand(best, s, tol.visible, r.iterations);
+    if (expansion == Polytope::Expansion::full) {
       r.status = EpaStatus::polytope_full;
-      break;
+      return best;
     }
-    if (expansion == epa_detail::Polytope::Expansion::invalid) {
+    if (expansion == Polytope::Expansion::invalid) {
       r.status = EpaStatus::stalled;
-      break;
+      return best;
     }
   }
+}
 
-  // ---- 3. the answer from the closest face --------------------------------
-  // The projection d n of the origin normally lies in the closest face; when
-  // it falls just outside (in a coplanar neighbour of a triangulated face of
-  // D), a face within the tolerance band whose own projection is interior
-  // gives the same plane with exact witnesses and a tight bound.
-  std::array<double, 3> lambda;
-  const epa_detail::Face* chosen = &poly.face[best];
-  if (!epa_detail::triangle_barycentric(poly.vertex[chosen->v[0]].w, poly.vertex[chosen->v[1]].w,
-                                        poly.vertex[chosen->v[2]].w, chosen->d * chosen->n, lambda)) {
-    const double band = chosen->d + std::max(settings.relative_tolerance * std::abs(chosen->d), abs_tolerance);
-    for (int g = 0; g < poly.face_end; ++g) {
-      const epa_detail::Face& fg = poly.face[g];
-      std::array<double, 3> lg;
-      if (!fg.live || g == best || fg.d > band) continue;
-      if (epa_detail::triangle_barycentric(poly.vertex[fg.v[0]].w, poly.vertex[fg.v[1]].w, poly.vertex[fg.v[2]].w,
-                                           fg.d * fg.n, lg)) {
-        // Its plane must also be supporting within the tolerance (on a
-        // curved D a face of the band may not have been tested yet): one
-        // support call decides.
-        const Vertex sg = epa_detail::support(a, b, fg.n);
-        ++r.support_calls;
-        if (!epa_detail::finite(sg) || fg.n.dot(sg.w) - fg.d > band - chosen->d) continue;
-        chosen = &fg;
-        lambda = lg;
-        break;
-      }
+// Phase 3a: the face whose plane answers. The projection d n of the origin
+// normally lies in the nearest face; when it falls just outside (in a
+// coplanar neighbour of a triangulated face of D), a face within the
+// tolerance band whose own projection is interior gives the same plane with
+// exact witnesses and a tight bound. `lambda`: the barycentric coordinates
+// of the chosen face's projection.
+template <class A, class B>
+const Face* answering_face(const A& a, const B& b, const EpaSettings& settings, const Tolerances& tol,
+                           const Polytope& poly, int best, std::array<double, 3>& lambda, EpaResult& r) {
+  const Face* chosen = &poly.face[best];
+  if (triangle_barycentric(poly.vertex[chosen->v[0]].w, poly.vertex[chosen->v[1]].w, poly.vertex[chosen->v[2]].w,
+                           chosen->d * chosen->n, lambda))
+    return chosen;
+  const double band = chosen->d + std::max(settings.relative_tolerance * std::abs(chosen->d), tol.absolute);
+  for (int g = 0; g < poly.face_end; ++g) {
+    const Face& fg = poly.face[g];
+    std::array<double, 3> lg;
+    if (!fg.live || g == best || fg.d > band) continue;
+    if (triangle_barycentric(poly.vertex[fg.v[0]].w, poly.vertex[fg.v[1]].w, poly.vertex[fg.v[2]].w, fg.d * fg.n, lg)) {
+      // Its plane must also be supporting within the tolerance (on a
+      // curved D a face of the band may not have been tested yet): one
+      // support call decides.
+      const Vertex sg = support(a, b, fg.n);
+      ++r.support_calls;
+      if (!finite(sg) || fg.n.dot(sg.w) - fg.d > band - chosen->d) continue;
+      lambda = lg;
+      return &fg;
     }
   }
-  const epa_detail::Face& f = *chosen;
+  return chosen;
+}
+
+// Phase 3b: the answer from face f and its bounds on the true signed depth
+// D* (exact arithmetic): D* <= upper (a support value); if the nearest
+// plane has d >= 0 every face does, the origin is inside P and D* >= d;
+// otherwise q, a point of P (so of D), is |q| from the origin and D* >= -|q|.
+inline void face_answer(const Polytope& poly, const Face& f, double nearest_d, const std::array<double, 3>& lambda,
+                        const BestSupport& best_support, EpaResult& r) {
   r.depth = f.d;
   r.normal = f.n;
   const Vertex* v[3] = {&poly.vertex[f.v[0]], &poly.vertex[f.v[1]], &poly.vertex[f.v[2]]};
-  const Eigen::Vector3d q = epa_detail::set_witnesses(r, v, lambda.data(), 3);
-  // Bounds on the true signed depth D* (exact arithmetic): D* <= upper (a
-  // support value); if the closest plane has d >= 0 every face does, the
-  // origin is inside P and D* >= d; otherwise q, a point of P (so of D), is
-  // |q| from the origin and D* >= -|q|.
-  const double closest_d = poly.face[best].d;
-  const double lower = closest_d >= 0.0 ? closest_d : -q.norm();
+  const Eigen::Vector3d q = set_witnesses(r, v, lambda.data(), 3);
+  const double lower = nearest_d >= 0.0 ? nearest_d : -q.norm();
+  const double upper = best_support.upper;
   if (!std::isfinite(upper)) {
     // No support value yet (max_iterations = 0): the face answer, no bound.
     r.error_bound = std::numeric_limits<double>::max();
@@ -719,14 +748,36 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
     // better estimate: report it. Witnesses: the support points, moved
     // apart along the supporting planes by half their lateral offset each.
     r.depth = upper;
-    r.normal = upper_n;
-    const Eigen::Vector3d lateral = upper_s.w - upper * upper_n;
-    r.point_a = upper_s.a - 0.5 * lateral;
-    r.point_b = upper_s.b + 0.5 * lateral;
+    r.normal = best_support.n;
+    const Eigen::Vector3d lateral = best_support.s.w - upper * best_support.n;
+    r.point_a = best_support.s.a - 0.5 * lateral;
+    r.point_b = best_support.s.b + 0.5 * lateral;
     r.error_bound = std::max(upper - lower, 0.0);
   } else {
     r.error_bound = std::numeric_limits<double>::max();
   }
+}
+
+}  // namespace epa_detail
+
+// Penetration depth of A and B (support types in one common frame) whose
+// overlap (or touching) GJK has established: `simplex` is GJK's final simplex
+// (its hull contains or touches the origin), `scale` the shapes' size,
+// `preferred` a direction from A toward B used only to orient the normal of
+// a flat D (e.g. B's centre minus A's).
+template <class A, class B>
+EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, double scale,
+                          const Eigen::Vector3d& preferred, const EpaSettings& settings = {}) {
+  EpaResult r;
+  const epa_detail::Tolerances tol = epa_detail::tolerances_of(settings, scale);
+  epa_detail::Polytope poly;
+  if (!epa_detail::start_polytope(a, b, simplex, preferred, tol, poly, r)) return r;
+  epa_detail::BestSupport best_support;
+  best_support.s = poly.vertex[0];
+  const int best = epa_detail::expand_polytope(a, b, settings, tol, poly, best_support, r);
+  std::array<double, 3> lambda;
+  const epa_detail::Face* f = epa_detail::answering_face(a, b, settings, tol, poly, best, lambda, r);
+  epa_detail::face_answer(poly, *f, poly.face[best].d, lambda, best_support, r);
   return r;
 }
 

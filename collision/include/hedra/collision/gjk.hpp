@@ -356,13 +356,11 @@ inline double length_of(const Eigen::Vector3d& v, double vv) {
   return vv >= kFullPrecision ? std::sqrt(vv) : v.stableNorm();
 }
 
-template <bool kBoolean, class A, class B>
-GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, double scale, double margin,
-              const GjkSettings& settings) {
-  GjkResult r;
-  const double abs_tolerance = settings.absolute_tolerance * scale;
-  const double zero = 16.0 * std::numeric_limits<double>::epsilon() * scale;
-
+// The first support point, against `initial_axis` (or +x when that is zero
+// or not finite): a simplex of one point. False (status degenerate, every
+// output zero) when it is not finite (NaN/inf parameters or poses).
+template <class A, class B>
+bool start(const A& a, const B& b, const Eigen::Vector3d& initial_axis, GjkResult& r) {
   Eigen::Vector3d axis = initial_axis;
   if (!axis.allFinite() || !(axis.squaredNorm() > 0.0)) axis = Eigen::Vector3d::UnitX();
   GjkSimplex& s = r.simplex;
@@ -371,13 +369,43 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
   r.support_calls = 1;
   s.w[0] = s.a[0] - s.b[0];
   if (!s.w[0].allFinite()) {
-    // Why: NaN/inf parameters or poses; every output stays zero.
     r.status = GjkStatus::degenerate;
     s.size = 0;
-    return r;
+    return false;
   }
   s.size = 1;
   s.lambda[0] = 1.0;
+  return true;
+}
+
+// The outputs from the final simplex, v = its point nearest the origin
+// (|v|^2 = vv), and the best lower bounds (clamped at 0, and signed).
+inline void finish(const Eigen::Vector3d& v, double vv, double lower, double signed_lower, GjkResult& r) {
+  const GjkSimplex& s = r.simplex;
+  r.point_a = weighted(s.a, s);
+  r.point_b = weighted(s.b, s);
+  r.v = v;
+  r.signed_lower_bound = std::min(signed_lower, length_of(v, vv));
+  if (r.intersecting) {
+    r.distance = 0.0;
+    r.lower_bound = 0.0;
+    r.error_bound = 0.0;
+  } else {
+    r.distance = length_of(v, vv);
+    r.lower_bound = std::min(std::max(lower, 0.0), r.distance);
+    r.error_bound = r.distance - r.lower_bound;
+  }
+}
+
+template <bool kBoolean, class A, class B>
+GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, double scale, double margin,
+              const GjkSettings& settings) {
+  GjkResult r;
+  const double abs_tolerance = settings.absolute_tolerance * scale;
+  const double zero = 16.0 * std::numeric_limits<double>::epsilon() * scale;
+
+  GjkSimplex& s = r.simplex;
+  if (!start(a, b, initial_axis, r)) return r;
   Eigen::Vector3d v = s.w[0];
   double vv = v.squaredNorm();
   double lower = 0.0;
@@ -489,19 +517,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     vv = best_vv;
   }
 
-  r.point_a = weighted(s.a, s);
-  r.point_b = weighted(s.b, s);
-  r.v = v;
-  r.signed_lower_bound = std::min(signed_lower, length_of(v, vv));
-  if (r.intersecting) {
-    r.distance = 0.0;
-    r.lower_bound = 0.0;
-    r.error_bound = 0.0;
-  } else {
-    r.distance = length_of(v, vv);
-    r.lower_bound = std::min(std::max(lower, 0.0), r.distance);
-    r.error_bound = r.distance - r.lower_bound;
-  }
+  finish(v, vv, lower, signed_lower, r);
   return r;
 }
 
