@@ -9,6 +9,7 @@
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/revolution.hpp>
 #include <hedra/collision/tilted_revolution.hpp>
+#include <hedra/hull/assert.hpp>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -414,6 +415,7 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
   const SignedAnswer core = steps.choose(out);
   out.status = core.status;
   if (core.status == Status::degenerate) return out;
+  HEDRA_ASSERT(is_unit(core.normal) && core.error_bound >= 0.0);
   out.error_bound = core.error_bound;
   out.distance = core.distance - (p.radius_a + p.radius_b);
   out.intersecting = out.distance <= 0.0;

@@ -85,6 +85,7 @@
 #include <array>
 #include <cmath>
 #include <hedra/collision/gjk.hpp>
+#include <hedra/hull/assert.hpp>
 #include <limits>
 
 namespace hedra::collision {
@@ -242,6 +243,7 @@ struct Polytope {
     if (!(len > 0.0) || !std::isfinite(len)) return false;
     n = {c.x() / len, c.y() / len, c.z() / len};
     d = (dot3(n, p0) + dot3(n, p1) + dot3(n, p2)) / 3.0;
+    HEDRA_ASSERT(is_unit(n));
     return true;
   }
 
@@ -251,6 +253,29 @@ struct Polytope {
     return -1;
   }
   int available_faces() const { return free_count + (kEpaMaxFaces - face_end); }
+
+  // Face f's edge i is shared with exactly one neighbour, which holds it
+  // reversed as its edge adj_edge[i] and points back: the closed
+  // two-manifold the walks rely on.
+  bool linked(int f) const {
+    const Face& ff = face[f];
+    for (int i = 0; i < 3; ++i) {
+      const int g = ff.adj[i], j = ff.adj_edge[i];
+      if (g < 0 || g >= face_end || j < 0 || j > 2 || !face[g].live) return false;
+      const Face& fg = face[g];
+      if (fg.adj[j] != f || fg.adj_edge[j] != i) return false;
+      if (fg.v[j] != ff.v[(i + 1) % 3] || fg.v[(j + 1) % 3] != ff.v[i]) return false;
+    }
+    return true;
+  }
+  // Capacity and Euler's count: a closed triangulation of a sphere has 2V - 4
+  // faces, V its vertices (vertices of removed regions no longer count, so
+  // at most 2 vertex_count - 4 live faces).
+  bool within_capacity() const {
+    const int live = face_end - free_count;
+    return vertex_count <= kEpaMaxVertices && face_end <= kEpaMaxFaces && free_count <= face_end && live >= 4 &&
+           live <= 2 * vertex_count - 4 && live % 2 == 0;
+  }
 
   static void link(Face& f, int i, int fid, Face& g, int j, int gid) {
     f.adj[i] = gid;
@@ -280,6 +305,7 @@ struct Polytope {
       live_d[f] = face_f.d;
     }
     face_end = 4;
+    for (int f = 0; f < 4; ++f) HEDRA_ASSERT(linked(f));
     return true;
   }
 
@@ -375,6 +401,10 @@ struct Polytope {
       const int next = starting[horizon[i].to];
       link(face[new_face[i]], 1, new_face[i], face[new_face[next]], 2, new_face[next]);
     }
+    // Only the new faces' links changed (a kept face's link to a removed one
+    // now goes to the new face across the same edge).
+    for (int i = 0; i < horizon_count; ++i) HEDRA_ASSERT(linked(new_face[i]));
+    HEDRA_ASSERT(within_capacity());
     return Expansion::done;
   }
 
@@ -778,6 +808,7 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
   std::array<double, 3> lambda;
   const epa_detail::Face* f = epa_detail::answering_face(a, b, settings, tol, poly, best, lambda, r);
   epa_detail::face_answer(poly, *f, poly.face[best].d, lambda, best_support, r);
+  HEDRA_ASSERT(r.status == EpaStatus::degenerate || (is_unit(r.normal) && std::isfinite(r.depth)));
   return r;
 }
 

@@ -70,6 +70,7 @@
 #include <cstdint>
 #include <hedra/collision/settings.hpp>
 #include <hedra/collision/vector_math.hpp>
+#include <hedra/hull/assert.hpp>
 #include <limits>
 
 namespace hedra::collision {
@@ -417,6 +418,11 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
   GjkSimplex best_simplex;
   Eigen::Vector3d best_v = v;
   double best_vv = vv;
+#if HEDRA_ASSERTS_ENABLED
+  // The smallest |v|^2 held so far: what the loop guarantees is that it
+  // ends there (sideways steps only rise above it, and are undone).
+  double least_vv = vv;
+#endif
 
   for (;;) {
     if (vv <= zero * zero || (kBoolean && vv <= margin * margin)) {
@@ -427,6 +433,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
       r.status = GjkStatus::max_iterations;
       break;
     }
+    HEDRA_ASSERT(s.size >= 1 && s.size <= 3);  // a tetrahedron has ended the loop
     ++r.iterations;
     const Eigen::Vector3d pa = a.support(-v);
     const Eigen::Vector3d pb = b.support(v);
@@ -497,6 +504,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
           best_vv = vv;
         }
         ++sideways;
+        HEDRA_ASSERT(sideways <= kMaxSideways && best_vv <= vv_next);
         adopt(s, sub);
         v = sub.point;
         vv = vv_next;
@@ -509,6 +517,9 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     adopt(s, sub);
     v = sub.point;
     vv = vv_next;
+#if HEDRA_ASSERTS_ENABLED
+    least_vv = std::min(least_vv, vv);
+#endif
   }
   // Sideways steps that found nothing better: back to the best simplex.
   if (sideways > 0 && !r.intersecting && best_vv < vv) {
@@ -517,6 +528,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     vv = best_vv;
   }
 
+  HEDRA_ASSERT(r.intersecting || !(vv > least_vv));
   finish(v, vv, lower, signed_lower, r);
   return r;
 }

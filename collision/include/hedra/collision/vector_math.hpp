@@ -39,6 +39,12 @@ inline Eigen::Vector3d area_vector(const Eigen::Vector3d& p0, const Eigen::Vecto
   return n;
 }
 
+// |n| = 1 within `tolerance` (what debug builds check of the normals the
+// queries return).
+inline bool is_unit(const Eigen::Vector3d& n, double tolerance = 1e-12) {
+  return std::abs(dot3(n, n) - 1.0) <= tolerance;
+}
+
 // d / |d|, or zero when d is zero or not finite (a radius added along it
 // then adds nothing, which keeps the answer finite).
 inline Eigen::Vector3d safe_unit(const Eigen::Vector3d& d) {
