@@ -62,9 +62,9 @@ hull::Index hint_of(const PolyhedronCore& core) { return core.hint; }
 // Witness points with point_b - point_a = distance * n exactly (up to the
 // final rounding): the midpoint of the two witnesses, moved apart along n.
 // GJK's barycentric witnesses and its projected v can disagree by rounding
-// times the simplex's conditioning (found by fuzzing: 8.7e-5 on a cone
-// 6.6e4 long and 0.24 wide, 1.3e-9 of its size); each point moves by half of
-// that, within the uncertainty of a witness on so flat a surface.
+// times the simplex's conditioning (1.3e-9 of the size on a long flat
+// cone); each point moves by half of that, within the uncertainty of a
+// witness on so flat a surface.
 void make_consistent(Eigen::Vector3d& point_a, Eigen::Vector3d& point_b, double distance, const Eigen::Vector3d& n) {
   const Eigen::Vector3d mid = 0.5 * (point_a + point_b);
   point_a = mid - (0.5 * distance) * n;

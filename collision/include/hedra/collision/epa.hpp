@@ -1,82 +1,23 @@
-// EPA, the Expanding Polytope Algorithm (van den Bergen, "Proximity Queries
-// and Penetration Depth Computation on 3D Game Objects", GDC 2001; "Collision
-// Detection in Interactive 3D Environments", 2003, section 4.3.7): the
-// penetration depth, normal and witness points of two overlapping convex
-// shapes, over the same support concept as GJK (gjk.hpp), both shapes in one
-// common frame.
+// EPA, the Expanding Polytope Algorithm (van den Bergen, GDC 2001; "Collision
+// Detection in Interactive 3D Environments", 2003, 4.3.7): the signed
+// penetration depth, normal and witnesses of two overlapping (or touching)
+// convex shapes, over GJK's support concept, both in one common frame.
 //
-// The penetration depth is the distance from the origin to the boundary of
-// the Minkowski difference D = A - B (the origin lies inside D when A and B
-// overlap): D's support function is h(u) = max_{x in D} u . x, the depth is
-// min_{|u|=1} h(u) and the minimising u is the normal from A toward B
-// (translating B by depth * u brings the shapes to touching). EPA keeps a
-// convex polytope P inside D around the origin, with vertices w_i = a_i - b_i
-// on D's boundary, and repeats:
-//   f  = the face of P nearest the origin (plane n . x = d, |n| = 1);
-//   w  = support of D along n;
-//   d <= depth <= h(n) = n . w    (P is inside D: its depth d is a lower
-//                                  bound; any direction's support value is
-//                                  an upper bound);
-//   stop when n . w - d <= max(relative_tolerance d, absolute_tolerance
-//   scale), scale being the shapes' size; otherwise add w to P: remove the
-//   faces that see w (n_g . w > d_g), found by a walk over face adjacency
-//   from f, and fan new faces from w to the horizon (the boundary of the
-//   removed region), so that P stays convex.
-// The answer is f's plane: depth d, normal n; the witness points are the
-// barycentric combination, with the coordinates of the origin's projection
-// d n on f, of the A and B support points stored with f's vertices.
-// An exit before convergence (iteration cap, full polytope, stalled)
-// reports instead the direction with the smallest support value seen:
-// depth = that value, a translation of B that certainly separates (d would
-// leave the shapes overlapping), within error_bound of the true depth. Where
-// the depth is nearly constant over many directions (a deep near-sphere, a
-// ball centred on a cylinder's axis) the lower bound d creeps up with the
-// polytope's resolution while the support values are already nearly exact
-// (the query layer answers cores of revolution with parallel axes exactly
-// instead, revolution.hpp; other such pairs keep this honest fallback).
-//
-// Start. EPA begins from the simplex GJK ended with (1 to 4 points whose hull
-// contains the origin, up to GJK's zero threshold). A simplex flatter than
-// flat_tolerance scale is first reduced to a sub-simplex whose hull holds the
-// origin's projection (a near-flat tetrahedron to one of its triangles, a
-// near-collinear triangle to an edge, a near-point segment to a point); then
-// it grows into a tetrahedron with support points along its degenerate
-// directions (any axis for a point, perpendiculars for a segment, +-normal for
-// a triangle), each new point at least flat_tolerance scale off the current
-// affine hull. The origin may then lie on a face or an edge of the
-// tetrahedron (touching, or a GJK simplex through the origin): faces are
-// oriented by the tetrahedron's signed volume, never by the origin, so a face
-// through the origin has d = 0 and a correct outward normal, and EPA expands
-// it like any other. The origin may even lie a hair outside P (a GJK simplex
-// that touches the origin from outside, see query.hpp's touching band): the
-// faces facing it then have d < 0, the nearest face is the one whose plane
-// separates most, and depth = d < 0 is minus that separation. If D has no extent along some direction (two coplanar
-// flat hulls, two segments, two points), D is flat, the origin lies on its
-// boundary and the depth is 0; the normal is then D's normal (flat), a
-// perpendicular (segment) or any unit vector (point), oriented toward the
-// caller's `preferred` direction (B's centre seen from A).
-//
-// Invariants kept:
-//   * every face's (n, d) comes from a cross product whose length is > 0 and
-//     finite (checked before the face exists), so n is a unit vector and
-//     every division by a face's area is safe;
-//   * faces are counter-clockwise seen from outside; each face knows its
-//     three neighbours and the matching edge index in each (a closed,
-//     two-manifold triangulation of a sphere);
-//   * an expansion is applied only after it was validated on the side: the
-//     horizon must be one simple cycle and every new face non-degenerate;
-//     otherwise P is left as it was and the loop stops (status stalled);
-//   * fixed capacity, no heap: kEpaMaxVertices vertices, kEpaMaxFaces faces
-//     (removed faces go back to a free list); running out gives status
-//     polytope_full with the best answer so far;
-//   * every exit leaves finite outputs, a unit normal and
-//     point_a - point_b = depth * normal (the rounding residual of the
-//     barycentric combination is split between the two points).
-//
-// Visibility uses a small threshold (1e-3 of the absolute tolerance): a face
-// that w is above by less than that is kept, so new faces are never slivers
-// of height below it, at the price of P being non-convex by at most that
-// much.
+// A convex polytope P inside D = A - B around the origin grows from GJK's
+// final simplex (reduced if flat, then grown into a tetrahedron; a flat D
+// answers depth 0 at once). Each iteration takes the face f of P nearest the
+// origin (plane n . x = d) and w = s_D(n): d <= depth <= n . w; it stops when
+// the gap is within the tolerance, otherwise removes the faces that see w
+// and fans new faces from w to the horizon. The answer is f's plane; an exit
+// before convergence (cap, full, stalled) reports the smallest support value
+// seen instead (a translation that certainly separates), with the bracket.
+// Invariants (checked in debug builds): unit face normals; a closed
+// two-manifold triangulation (each edge shared by two faces that know each
+// other); an expansion applied only once validated (one simple horizon
+// cycle, non-degenerate new faces), otherwise P unchanged and status
+// stalled; fixed capacity, no heap (kEpaMaxVertices, kEpaMaxFaces);
+// finite outputs and point_a - point_b = depth * normal on every exit.
+// Derivations: docs/design.md, "EPA".
 #pragma once
 
 #include <Eigen/Core>
@@ -580,31 +521,6 @@ inline Tolerances tolerances_of(const EpaSettings& settings, double scale) {
   return t;
 }
 
-// The directions along which a flat simplex of k points (1..3) grows: any
-// axis for a point, perpendiculars for a segment, +-normal for a triangle.
-inline int growth_directions(const std::array<Vertex, 4>& p, int k, std::array<Eigen::Vector3d, 8>& dirs) {
-  int count = 0;
-  if (k == 1) {
-    for (int axis = 0; axis < 3; ++axis) {
-      dirs[count++] = Eigen::Vector3d::Unit(axis);
-      dirs[count++] = -Eigen::Vector3d::Unit(axis);
-    }
-  } else if (k == 2) {
-    const Eigen::Vector3d e = (p[1].w - p[0].w).stableNormalized();
-    const Eigen::Vector3d u = e.unitOrthogonal(), v = e.cross(u);
-    for (const Eigen::Vector3d& d :
-         {u, v, Eigen::Vector3d((u + v).stableNormalized()), Eigen::Vector3d((u - v).stableNormalized())}) {
-      dirs[count++] = d;
-      dirs[count++] = -d;
-    }
-  } else {
-    const Eigen::Vector3d n = area_vector(p[0].w, p[1].w, p[2].w).stableNormalized();
-    dirs[count++] = n;
-    dirs[count++] = -n;
-  }
-  return count;
-}
-
 // Phase 1: GJK's simplex reduced (reduce_simplex), then grown along its
 // degenerate directions into a tetrahedron of positive volume in `poly`:
 // the first candidate that stands comfortably off the affine hull (1e-3 of
@@ -626,8 +542,28 @@ bool start_polytope(const A& a, const B& b, const GjkSimplex& simplex, const Eig
   }
   k = reduce_simplex(p, k, tol.flat);
   while (k < 4) {
+    // The degenerate directions: any axis for a point, perpendiculars for
+    // a segment, +-normal for a triangle.
     std::array<Eigen::Vector3d, 8> dirs;
-    const int count = growth_directions(p, k, dirs);
+    int count = 0;
+    if (k == 1) {
+      for (int axis = 0; axis < 3; ++axis) {
+        dirs[count++] = Eigen::Vector3d::Unit(axis);
+        dirs[count++] = -Eigen::Vector3d::Unit(axis);
+      }
+    } else if (k == 2) {
+      const Eigen::Vector3d e = (p[1].w - p[0].w).stableNormalized();
+      const Eigen::Vector3d u = e.unitOrthogonal(), v = e.cross(u);
+      for (const Eigen::Vector3d& d :
+           {u, v, Eigen::Vector3d((u + v).stableNormalized()), Eigen::Vector3d((u - v).stableNormalized())}) {
+        dirs[count++] = d;
+        dirs[count++] = -d;
+      }
+    } else {
+      const Eigen::Vector3d n = area_vector(p[0].w, p[1].w, p[2].w).stableNormalized();
+      dirs[count++] = n;
+      dirs[count++] = -n;
+    }
     Vertex best = p[0];
     double best_height = -1.0;
     for (int i = 0; i < count; ++i) {
@@ -756,8 +692,9 @@ const Face* answering_face(const A& a, const B& b, const EpaSettings& settings, 
 // D* (exact arithmetic): D* <= upper (a support value); if the nearest
 // plane has d >= 0 every face does, the origin is inside P and D* >= d;
 // otherwise q, a point of P (so of D), is |q| from the origin and D* >= -|q|.
-inline void face_answer(const Polytope& poly, const Face& f, double nearest_d, const std::array<double, 3>& lambda,
-                        const BestSupport& best_support, EpaResult& r) {
+template <class Poly>
+void face_answer(const Poly& poly, const Face& f, double nearest_d, const std::array<double, 3>& lambda,
+                 const BestSupport& best_support, EpaResult& r) {
   r.depth = f.d;
   r.normal = f.n;
   const Vertex* v[3] = {&poly.vertex[f.v[0]], &poly.vertex[f.v[1]], &poly.vertex[f.v[2]]};

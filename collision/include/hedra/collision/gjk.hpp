@@ -1,66 +1,22 @@
 // GJK (Gilbert, Johnson, Keerthi 1988) over support mappings, with the
-// signed-volumes sub-algorithm of Montanari, Petrinic and Barbieri,
-// "Improving the GJK algorithm for faster and more reliable distance
-// queries between convex objects", ACM TOG 36(3), 2017.
+// signed-volumes sub-algorithm of Montanari, Petrinic and Barbieri (ACM TOG
+// 36(3), 2017). Both shapes are support types (`support(d) const`) in one
+// common frame (the query layer uses A's core frame).
 //
-// Both shapes are support types (`support(d) const`) in one common frame
-// (the query layer uses A's core frame). The algorithm searches the point v
-// of the Minkowski difference A - B closest to the origin:
-//   w = s_A(-v) - s_B(v)            the difference's support point against v;
-//   v . w / |v| <= distance <= |v|  (v . w / |v| is a certified lower bound:
-//                                    every x in A - B has v . x >= v . w);
-//   gap = |v|^2 - v . w >= 0        the Frank-Wolfe duality gap, so
-//                                    |v| - distance <= gap / |v|.
-// Each iteration adds w to the simplex (at most 4 points w_i = a_i - b_i) and
-// replaces the simplex by the smallest sub-simplex whose hull contains the
-// point closest to the origin, with barycentric weights lambda_i; then
-// v = sum lambda_i w_i and the witness points are sum lambda_i a_i and
-// sum lambda_i b_i.
-//
-// Signed volumes. The sub-simplex is chosen from signs only: the origin's
-// barycentric coordinates are ratios of signed volumes (areas, lengths) of
-// sub-simplices, computed on the coordinate projection that maximises the
-// simplex's own volume, and a sub-simplex is accepted only when every
-// coordinate has the sign of the total. Unlike Johnson's distance
-// sub-algorithm or Voronoi-region tests, no determinant is compared against
-// a threshold, so near-degenerate simplices cannot flip between regions: a
-// flat tetrahedron or a collinear triangle simply fails the sign test and its
-// faces (edges) are examined instead. Signs that are pure rounding can still
-// mark the wrong faces as the ones to examine, so the faces (edges) through
-// the support point just added are always examined too (s3d explains why).
-//
-// The closest point itself is not taken as sum lambda_i w_i: that sum carries
-// an absolute rounding error of eps |w| (the simplex's size), which near
-// contact (|v| ~ 1e-9 |w|) turns v's direction by eps |w| / |v| ~ 1e-7 rad.
-// Against nearly parallel faces the next support point depends on that
-// direction, and the loop used to end on a "duplicate" vertex with the
-// duality gap still large (distances of 1e-8 reported for 1e-12). Instead v
-// is the origin's projection on the sub-simplex's affine hull computed from
-// its normal, (c . n / |n|^2) n for a triangle, whose direction is n's
-// (relative error eps, whatever |v|); lambda_i only give the witnesses.
-//
-// Termination (whichever comes first; every exit keeps finite outputs):
-//   * |v| <= zero threshold (16 eps x scale) or the simplex is a tetrahedron
-//     containing the origin: the cores overlap or touch (intersecting);
-//   * the certified gap |v| - lower <= max(relative_tolerance |v|,
-//     absolute_tolerance scale), lower being the best v . w / |v| of all
-//     iterations: the distance error is below the tolerance (ok);
-//   * w equals a simplex vertex (a duplicate support point), or |v|^2 fails
-//     to decrease strictly (rounding has taken over, or a NaN appeared in the
-//     sub-algorithm): the previous v, still the best, is kept; the status is
-//     ok only if the certified gap is within the tolerance, else stalled.
-//     Up to 4 steps in a row may go "sideways" first (|v|^2 up by at most
-//     16 eps of itself: a true decrease below rounding, as on the large flat
-//     faces of a ground plate), the best simplex restored if they find
-//     nothing better;
-//   * a non-finite support point: status degenerate;
-//   * the iteration cap: status max_iterations, never read as "separated".
-// gjk_intersect additionally stops as soon as the answer is known: separated
-// once v . w > margin |v| (a separating axis), intersecting once
-// |v| <= margin.
-//
-// Warm start: the caller passes the initial search axis (the previous v of
-// the pair, kept in a GjkCache, or the centre difference).
+// The loop searches v, the point of D = A - B nearest the origin: w =
+// s_A(-v) - s_B(v) goes into the simplex (at most 4 points w_i = a_i - b_i),
+// which is replaced by its sub-simplex nearest the origin (chosen from the
+// signs of signed volumes only, no threshold); v is the origin's projection
+// on that sub-simplex's affine hull, computed from its normal.
+// Invariants and bounds: v . w / |v| <= distance <= |v| (certified; the
+// duality gap bounds the error); the simplex holds 1..3 points at the top of
+// the loop; |v|^2 decreases strictly, except up to 4 steps "sideways" within
+// 16 eps of itself, undone unless they lead below the best; every exit
+// keeps finite outputs and a status (ok, stalled, max_iterations,
+// degenerate), never reading a cap as "separated". gjk_intersect stops at
+// the first separating axis (v . w > margin |v|) or once |v| <= margin.
+// Warm start: the caller's initial axis (a GjkCache's last v, or the centre
+// difference). Derivations: docs/design.md, "GJK".
 #pragma once
 
 #include <Eigen/Core>
@@ -132,7 +88,7 @@ namespace gjk_detail {
 inline bool same_sign(double x, double y) { return (x > 0.0 && y > 0.0) || (x < 0.0 && y < 0.0); }
 
 // A sub-simplex, the barycentric weights of its point nearest the origin,
-// and that point (computed by projection, see the top of this file).
+// and that point (computed by projection: docs/design.md, "GJK").
 struct Sub {
   int size = 0;
   std::array<int, 4> index{};
@@ -350,8 +306,7 @@ inline Eigen::Vector3d weighted(const std::array<Eigen::Vector3d, 4>& p, const G
 
 // |v| from its squared length vv: sqrt(vv), unless vv is small enough to
 // have lost bits to gradual underflow (|v| below about 1e-146), then Eigen's
-// scaled stableNorm (found by fuzzing: a point 8.2e-159 from a point got a
-// normal v / sqrt(vv) of length 1 - 4.7e-9).
+// scaled stableNorm (v / sqrt(vv) is not unit there).
 inline double length_of(const Eigen::Vector3d& v, double vv) {
   constexpr double kFullPrecision = std::numeric_limits<double>::min() / std::numeric_limits<double>::epsilon();
   return vv >= kFullPrecision ? std::sqrt(vv) : v.stableNorm();
@@ -454,8 +409,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
       // Converged. Without a positive lower bound (no axis separates the
       // cores, beyond the margin for the boolean query) the origin may be
       // inside: |v| <= tolerance is the cores touching within tolerance, not
-      // a separation (found by fuzzing: a point deep in a large cylinder
-      // stopped at |v| = 4e-11 and read as "separated").
+      // a separation.
       if (lower <= (kBoolean ? margin : 0.0)) r.intersecting = true;
       break;
     }
@@ -485,16 +439,11 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     // Strict decrease, written so that NaN fails it: keep the previous,
     // better simplex and stop (the gap was above the tolerance).
     // Except for a few steps sideways: a step whose true decrease is below
-    // the rounding of |v|^2 (a few eps) while the gap is still large. Found
-    // by fuzzing: a small cone 5.124 below a flat cylinder of radius 63 625
-    // (a ground plate): the first two support points are opposite points of
-    // the plate's rim, the third a rim point at right angles, and the
-    // triangle through them is tilted by 1.6e-8 rad from the face, which
-    // lowers |v| by 1.3e-16 of itself; computed, it rose by 1 ulp, and GJK
-    // stopped `stalled` at 5.125 (bound 1e-3). The tilted v points the next
-    // support at the opposite rim, and the step after converges. The best
-    // simplex so far is kept aside and restored if the sideways steps end
-    // without going below it.
+    // the rounding of |v|^2 (a few eps) while the gap is still large (a
+    // triangle across a wide flat face, tilted from it by rounding: see
+    // docs/design.md, "GJK's sideways steps"). The best simplex so far is
+    // kept aside and restored if the sideways steps end without going
+    // below it.
     if (!(vv_next < vv)) {
       constexpr double kSidewaysRounding = 16.0 * std::numeric_limits<double>::epsilon();
       if (vv_next <= vv * (1.0 + kSidewaysRounding) && sideways < kMaxSideways) {

@@ -26,16 +26,8 @@
 // compares false everywhere and returns the start vertex: callers reject
 // non-finite directions before (GJK does).
 //
-// The crossover is measured (bench/collision_benchmark, BM_Support*; ns per
-// call, scan / climb): cold, from a random start, 41/85 at 32 vertices,
-// 87/103 at 64, 193/136 at 128; warm, starting from the previous answer with
-// the direction turned a few degrees, 53/14 at 32 and 86/14 at 64. GJK and
-// EPA always carry the previous support vertex as the start, so queries run
-// warm after their first support call. Whole queries decide between 32 and
-// 64 (callgrind instruction counts per query on the benchmark's 8-64 vertex
-// hull pairs): climbing from 32 costs 12 % fewer instructions on
-// penetrating pairs (GJK + EPA) and 24 % fewer on separated ones (GJK), so
-// the crossover is 32.
+// The crossover (32 vertices) is measured: docs/design.md, "Support
+// crossover".
 #pragma once
 
 #include <Eigen/Core>

@@ -1,68 +1,20 @@
-// Penetration of two cores of revolution at any tilt, certified, by branch
-// and bound over the directions.
+// Penetration of two cores of revolution (segment, cylinder, cone) at any
+// tilt, certified, by branch and bound over the directions.
 //
-// Why: nearly coaxial cylinders and cones defeat EPA (the depth is almost the
-// same over a circle of directions, and the polytope fills up long before its
-// lower bound rises), and the exact meridian reduction of revolution.hpp only
-// holds for parallel axes (within theta R_B of the truth at a tilt theta).
-// Both symmetries together make the problem two-dimensional and smooth
-// enough to certify:
-//
-//   * A core of revolution centred at the origin with unit axis k (segment,
-//     cylinder, cone) has a support function h(n) = f(k . n) of one variable
-//     c = k . n, its "profile": f = max(lo, hi), each branch of the form
-//     s c + rho sqrt(1 - c^2), concave on [-1, 1] (cylinder: +-h c + r sqrt;
-//     cone: h c for the apex, -h c + r sqrt for the base rim; segment: +-h c).
-//     The branches cross at the kink c_k (0 for a cylinder or a segment,
-//     r / sqrt(r^2 + 4 h^2) for a cone), where the support set is a segment.
-//   * D = A - B, A's axis a at the origin, B's axis b at t:
-//       h_D(n) = f_A(a . n) + f_B(-(b . n)) - t . n,
-//     and the signed distance is -min_{|n|=1} h_D(n) (the depth when > 0).
-//   * In the frame (a, e2, m), m perpendicular to a and b, e2 = m x a, write
-//     n = X a + Y e2 + sigma gamma m with P = (X, Y) in the unit disc and
-//     gamma = sqrt(1 - |P|^2); the sign sigma = sign(t . m) is the better one
-//     (h_D depends on it through -t . n only). Then a . n = X and
-//     b . n = c X + s Y (c = a . b, s = e2 . b) are linear in P: the kinks
-//     are straight lines, and
-//       F(P) = f_A(X) + f_B(-(c X + s Y)) - t1 X - t2 Y - tau gamma
-//     with t1 = t . a, t2 = t . e2, tau = |t . m| >= 0.
-//   * Lower bound of F over a square of P: split the square by the two kink
-//     lines into convex pieces; in each piece f_A and f_B are bounded below
-//     by the chords of their branches over the piece's range of the argument
-//     (every branch is concave and below f), which leaves a linear function
-//     minus tau gamma: convex, minimised exactly over the piece cut by the
-//     unit disc (the unconstrained minimiser, each edge by a closed form, the
-//     arc's lowest point). Chords are exact at the ends of their range, so
-//     the bound is exact on the kink lines, where the minimum lies, and off
-//     them its error falls as the square of the square's size.
-//   * The poles (n = +-a, +-b) are where the disc coordinates fail: a
-//     direction 1e-8 rad from an axis has X = 1 in double. A piece that
-//     reaches within 4e-15 of a pole is bounded instead in the pole's own
-//     angle phi: the pole's profile is at least each branch, s cos(phi) +
-//     rho sin(phi), and the rest of h_D (a support function) at least n . x
-//     for its support point x at the pole, so h_D >= H cos(phi) + kappa
-//     sin(phi), whose minimum over the cap is at an end (pole_cap_bound).
-//     At a cylinder's cap (a kink, kappa > 0) that is the pole's own value:
-//     minima at a pole (a small core deep inside a flat cylinder, found by
-//     fuzzing) are certified. Otherwise the bound is lowered by 1e-7 of the
-//     sizes (what the coordinates hide) and the minimum stays uncertified.
-//   * Upper bound: h_D at the lower bound's minimiser of each piece (every
-//     h_D(n) bounds min h_D from above), at the four poles, and at
-//     directions the caller knows (the parallel pair's normal, EPA's best).
-//   * Depth-first over a quadtree of [-1, 1]^2, children in order of their
-//     bound; a square is dropped once its bound is within the tolerance of
-//     the best upper bound; the certified lower bound is the smallest bound
-//     of the squares dropped. At most `max_squares` squares and a fixed
-//     stack (no heap): hitting the cap reports max_iterations with the
-//     bracket so far.
-//
-// Witness points: the support sets of A along n and of B along -n (a point,
-// a segment on a kink, a disc at a pole), points p_a, p_b in them with
-// p_a - p_b closest to depth * n by alternating projections.
-//
-// The tolerance scales with the pair (relative and absolute as in EPA); the
-// rounding of the bound's arithmetic, a few eps of the size of the pair and
-// of t, is subtracted from it.
+// Nearly coaxial cylinders and cones defeat EPA (the depth is almost the
+// same over a circle of directions) and the exact reduction of
+// revolution.hpp holds only for parallel axes. Each core's support function
+// depends on one variable, the cosine to its axis; in disc coordinates P of
+// the unit sphere the kinks of both profiles are straight lines, and over a
+// square of P cut by those lines a chord bound of each concave branch leaves
+// a convex function minimised in closed form: a certified lower bound,
+// exact on the kink lines. Upper bounds are support values h_D(n) at the
+// pieces' minimisers, the poles and the caller's hints. Depth first over a
+// quadtree of [-1, 1]^2 with a fixed stack and a cap on squares (then
+// max_iterations with the bracket so far). The poles, where disc coordinates
+// cannot resolve directions, get their own cap bounds. Witnesses: points of
+// the support sets (point, segment, disc) by alternating projections.
+// Derivations: docs/design.md, "Tilted cores of revolution".
 #pragma once
 
 #include <Eigen/Core>
