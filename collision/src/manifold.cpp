@@ -666,7 +666,9 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
       out.path = ContactPath::cap;
     } else if (un > 0.0) {
       u /= un;
-      const Vec s0 = cylinder ? Vec(centre - h * axis + b.radius * u) : Vec(centre - h * axis + b.radius * u);
+      // From the base rim (a cylinder's and a cone's alike) to the top rim
+      // (cylinder) or the apex (cone).
+      const Vec s0 = centre - h * axis + b.radius * u;
       const Vec s1 = cylinder ? Vec(centre + h * axis + b.radius * u) : Vec(centre + h * axis);
       const Vec g = s1 - s0;
       if (!(std::abs(g.dot(nf)) <= sin_tol * g.norm())) return first;  // not lying along the face
@@ -706,7 +708,7 @@ ContactResult contact_typed(const Shape& shape_a, const SA& a, const Pose& pose_
 ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
                       const ContactSettings& settings) {
   // valid(), not only finite(): translations beyond max_coordinate are invalid in
-  // every query (found by fuzzing: a box at x = 1.9e230 answered ok, "separated").
+  // every query.
   if (!pose_a.valid() || !pose_b.valid() || !validate(a).ok() || !validate(b).ok() ||
       !pair_in_range(a, pose_a, b, pose_b) || !std::isfinite(settings.contact_distance)) {
     ContactResult out;

@@ -3,10 +3,15 @@
 // Polyhedron support hints travel through the caller's GjkCache.
 #include <algorithm>
 #include <cmath>
+#include <hedra/collision/epa.hpp>
+#include <hedra/collision/gjk.hpp>
+#include <hedra/collision/minkowski.hpp>
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/revolution.hpp>
 #include <hedra/collision/tilted_revolution.hpp>
+#include <hedra/hull/assert.hpp>
 #include <limits>
+#include <optional>
 #include <utility>
 
 namespace hedra::collision {
@@ -57,13 +62,26 @@ hull::Index hint_of(const PolyhedronCore& core) { return core.hint; }
 // Witness points with point_b - point_a = distance * n exactly (up to the
 // final rounding): the midpoint of the two witnesses, moved apart along n.
 // GJK's barycentric witnesses and its projected v can disagree by rounding
-// times the simplex's conditioning (found by fuzzing: 8.7e-5 on a cone
-// 6.6e4 long and 0.24 wide, 1.3e-9 of its size); each point moves by half of
-// that, within the uncertainty of a witness on so flat a surface.
+// times the simplex's conditioning (1.3e-9 of the size on a long flat
+// cone); each point moves by half of that, within the uncertainty of a
+// witness on so flat a surface.
 void make_consistent(Eigen::Vector3d& point_a, Eigen::Vector3d& point_b, double distance, const Eigen::Vector3d& n) {
   const Eigen::Vector3d mid = 0.5 * (point_a + point_b);
   point_a = mid - (0.5 * distance) * n;
   point_b = mid + (0.5 * distance) * n;
+}
+
+// The world answer from the cores' (A's core frame): consistent witnesses,
+// the radii added along n, then A's core offset and pose.
+template <class Result>
+void place_in_world(Result& out, const Eigen::Vector3d& offset_a, const Pose& pose_a, double radius_a, double radius_b,
+                    Eigen::Vector3d core_a, Eigen::Vector3d core_b, double core_distance, const Eigen::Vector3d& n) {
+  make_consistent(core_a, core_b, core_distance, n);
+  const Eigen::Vector3d local_a = core_a + radius_a * n;
+  const Eigen::Vector3d local_b = core_b - radius_b * n;
+  out.normal = pose_a.rotation * n;
+  out.point_a = pose_a.rotation * (offset_a + local_a) + pose_a.translation;
+  out.point_b = pose_a.rotation * (offset_a + local_b) + pose_a.translation;
 }
 
 bool inputs_valid(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
@@ -147,14 +165,7 @@ DistanceResult distance_typed(const SA& a, const Pose& pose_a, const SB& b, cons
   out.distance = g.distance - radii;
   // n from A toward B in A's core frame; |v| > radii >= 0 so the division is safe.
   const Eigen::Vector3d n = -g.v / g.distance;
-  Eigen::Vector3d core_a = g.point_a, core_b = g.point_b;
-  make_consistent(core_a, core_b, g.distance, n);
-  const Eigen::Vector3d local_a = core_a + p.radius_a * n;
-  const Eigen::Vector3d local_b = core_b - p.radius_b * n;
-  const Eigen::Vector3d offset_a = core_offset(a);
-  out.normal = pose_a.rotation * n;
-  out.point_a = pose_a.rotation * (offset_a + local_a) + pose_a.translation;
-  out.point_b = pose_a.rotation * (offset_a + local_b) + pose_a.translation;
+  place_in_world(out, core_offset(a), pose_a, p.radius_a, p.radius_b, g.point_a, g.point_b, g.distance, n);
   return out;
 }
 
@@ -174,6 +185,219 @@ Status to_status(EpaStatus s) {
   return Status::degenerate;
 }
 
+// ---- penetration(): a chain of named steps and one rule --------------------
+//
+// GJK runs first. Cores it certifies apart beyond the touching band answer
+// with GJK (gjk_answer). Otherwise a signed step answers, the first that
+// applies: exact_parallel_revolution, nearly_coaxial_branch_and_bound, epa
+// (and, when EPA fails on overlapping cores, bracket_when_epa_fails). The
+// rule (choose) then keeps GJK's own bracket where EPA stalled on a narrower
+// one (gjk_bracket_when_epa_stalls), the signed answer where the cores may
+// overlap or where it is certified better and agrees with GJK, GJK's answer
+// otherwise. Why each step is there: docs/design.md, "Why penetration()
+// tries what it tries".
+
+// One step's answer for the cores' signed distance, A's core frame: the
+// true signed distance lies in [distance - error_bound, distance +
+// error_bound] (exact arithmetic).
+struct SignedAnswer {
+  Status status = Status::ok;
+  double distance = 0.0;  // > 0 apart, < 0 minus the depth
+  double error_bound = 0.0;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, from A toward B
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();
+  int iterations = 0;     // EPA's iterations or the branch and bound's squares
+  int support_calls = 0;  // beyond GJK's
+};
+
+SignedAnswer signed_answer_of(const EpaResult& e) {
+  SignedAnswer s;
+  s.status = to_status(e.status);
+  s.distance = -e.depth;
+  s.error_bound = e.error_bound;
+  s.normal = e.normal;
+  s.point_a = e.point_a;
+  s.point_b = e.point_b;
+  s.iterations = e.iterations;
+  s.support_calls = e.support_calls;
+  return s;
+}
+
+// The steps of penetration() on one pair, after GJK (`g`).
+template <class Setup, class PlacedB>
+class PenetrationSteps {
+ public:
+  PenetrationSteps(const Setup& p, const PlacedB& placed_b, const GjkResult& g, const PenetrationSettings& settings)
+      : p_(p), placed_b_(placed_b), g_(g), settings_(settings) {}
+
+  // The rule: the cores' answer; the signed step's counts go into `out`.
+  SignedAnswer choose(PenetrationResult& out) {
+    const double band = settings_.touching_band * p_.scale;
+    // GJK's distance is unsigned: with a certified lower bound of 0 the
+    // cores may be deep inside each other, and only a signed answer counts.
+    const bool overlap_possible = g_.intersecting || !(g_.lower_bound > 0.0);
+    if (!overlap_possible && !(g_.lower_bound <= band)) return gjk_answer();
+    const SignedAnswer e = signed_answer(overlap_possible);
+    out.epa_iterations = e.iterations;
+    out.support_calls += e.support_calls;
+    if (const std::optional<SignedAnswer> bracket = gjk_bracket_when_epa_stalls(e)) return *bracket;
+    if (overlap_possible || signed_answer_better(e, band)) return e;
+    return gjk_answer();
+  }
+
+ private:
+  // Separated cores: GJK's answer (|v| > GJK's zero threshold > 0).
+  SignedAnswer gjk_answer() const {
+    SignedAnswer s;
+    s.status = to_status(g_.status);
+    s.distance = g_.distance;
+    s.error_bound = g_.error_bound;
+    s.normal = -g_.v / g_.distance;
+    s.point_a = g_.point_a;
+    s.point_b = g_.point_b;
+    return s;
+  }
+
+  // Overlapping, touching or uncertain cores: the first signed step that
+  // applies (the two exact paths for cores of revolution only where the
+  // cores may overlap).
+  SignedAnswer signed_answer(bool overlap_possible) {
+    if (overlap_possible) {
+      if (const std::optional<EpaResult> exact = exact_parallel_revolution()) return signed_answer_of(*exact);
+      if (const std::optional<EpaResult> tilted = nearly_coaxial_branch_and_bound()) return signed_answer_of(*tilted);
+    }
+    EpaResult e = epa();
+    if (overlap_possible && e.status != EpaStatus::ok && e.status != EpaStatus::degenerate)
+      e = bracket_when_epa_fails(e);
+    return signed_answer_of(e);
+  }
+
+  // Cores of revolution with parallel axes: the exact meridian-section
+  // answer (revolution.hpp).
+  std::optional<EpaResult> exact_parallel_revolution() const {
+    EpaResult e;
+    if (revolution_penetration(p_.core_a, p_.core_b, p_.relative, p_.scale, p_.relative.translation, settings_.epa, e))
+      return e;
+    return std::nullopt;
+  }
+
+  // The pair with B's axis made parallel to A's, whatever the tilt: within
+  // theta R_B of the true depth (revolution.hpp); null when the pair is not
+  // of that kind. Computed at most once.
+  const EpaResult* parallel_bracket() {
+    if (!parallel_tried_) {
+      parallel_tried_ = true;
+      parallel_known_ = revolution_penetration(p_.core_a, p_.core_b, p_.relative, p_.scale, p_.relative.translation,
+                                               settings_.epa, parallel_, RevolutionTilt::any);
+    }
+    return parallel_known_ ? &parallel_ : nullptr;
+  }
+
+  // Cores of revolution with axes within kCoaxialTilt: the certified branch
+  // and bound (tilted_revolution.hpp) with its first budget, when it
+  // converges.
+  std::optional<EpaResult> nearly_coaxial_branch_and_bound() {
+    if (!nearly_coaxial(p_.core_a, p_.core_b, p_.relative)) return std::nullopt;
+    const EpaResult* parallel = parallel_bracket();
+    const Eigen::Vector3d hints[2] = {parallel ? parallel->normal : Eigen::Vector3d(-g_.v), p_.relative.translation};
+    EpaResult q;
+    TiltedRevolutionSettings first;
+    first.max_squares = kCoaxialFirstSquares;
+    if (tilted_revolution_penetration(p_.core_a, p_.core_b, p_.relative, p_.scale, hints, 2, settings_.epa, q, first) &&
+        q.status == EpaStatus::ok)
+      return q;
+    return std::nullopt;
+  }
+
+  // EPA on the cores from GJK's final simplex (epa.hpp).
+  EpaResult epa() const {
+    return epa_penetration(p_.core_a, placed_b_, g_.simplex, p_.scale, p_.relative.translation, settings_.epa);
+  }
+
+  // EPA did not converge on overlapping cores: for cores of revolution, the
+  // larger of the certified lower bounds and the smallest certified upper
+  // bound that comes with a normal, from EPA, the parallel pair's normal
+  // (h_D there) and the branch and bound with its full budget; `e`
+  // unchanged for other cores.
+  EpaResult bracket_when_epa_fails(EpaResult e) {
+    double lower = e.depth - e.error_bound;
+    const auto take_upper = [&](double h, const Eigen::Vector3d& normal, const Eigen::Vector3d& pa,
+                                const Eigen::Vector3d& pb) {
+      if (std::isfinite(h) && h < e.depth) {
+        e.depth = h;
+        e.normal = normal;
+        e.point_a = pa;
+        e.point_b = pb;
+      }
+    };
+    const EpaResult* parallel = parallel_bracket();
+    const EpaResult r = parallel ? *parallel : EpaResult{};
+    bool bracketed = false;
+    if (parallel) {
+      const Eigen::Vector3d sa = p_.core_a.support(r.normal), sb = placed_b_.support(-r.normal);
+      lower = std::max(lower, r.depth - r.error_bound);
+      take_upper(r.normal.dot(sa - sb), r.normal, sa, sb);
+      bracketed = true;
+    }
+    const Eigen::Vector3d hints[2] = {e.normal, r.normal};
+    EpaResult q;
+    if (tilted_revolution_penetration(p_.core_a, p_.core_b, p_.relative, p_.scale, hints, bracketed ? 2 : 1,
+                                      settings_.epa, q)) {
+      lower = std::max(lower, q.depth - q.error_bound);
+      take_upper(q.depth, q.normal, q.point_a, q.point_b);
+      bracketed = true;
+    }
+    if (bracketed) {
+      e.error_bound = std::max(e.depth - lower, 0.0);
+      const double tolerance =
+          std::max(settings_.epa.relative_tolerance * e.depth, settings_.epa.absolute_tolerance * p_.scale);
+      if (e.error_bound <= tolerance) e.status = EpaStatus::ok;
+    }
+    return e;
+  }
+
+  // EPA stalled, and GJK's own bracket of the signed distance, [signed
+  // lower bound, |v|], is narrower than EPA's error bound: the upper end
+  // |v| with normal -v/|v|, ok when the bracket is within GJK's tolerance,
+  // stalled otherwise. (A cap or a full polytope keeps its own status.)
+  std::optional<SignedAnswer> gjk_bracket_when_epa_stalls(const SignedAnswer& e) const {
+    const double vn = g_.v.norm();
+    const double gjk_gap = vn - g_.signed_lower_bound;
+    if (!(e.status == Status::stalled && g_.status == GjkStatus::ok && vn > 0.0 && gjk_gap < e.error_bound))
+      return std::nullopt;
+    const double tolerance =
+        std::max(settings_.gjk.relative_tolerance * vn, settings_.gjk.absolute_tolerance * p_.scale);
+    SignedAnswer s;
+    s.status = gjk_gap <= tolerance ? Status::ok : Status::stalled;
+    s.distance = vn;
+    s.error_bound = gjk_gap;
+    s.normal = -g_.v / vn;
+    s.point_a = g_.point_a;
+    s.point_b = g_.point_b;
+    return s;
+  }
+
+  // Cores GJK certifies apart, but not beyond the touching band: the signed
+  // answer replaces GJK's when it converged, agrees with GJK's certified
+  // separation (its interval does not lie below GJK's lower bound, beyond
+  // rounding) and either |v| is within the band (GJK's normal is then
+  // mostly rounding) or its certified error is smaller.
+  bool signed_answer_better(const SignedAnswer& e, double band) const {
+    const double rounding = 64.0 * std::numeric_limits<double>::epsilon() * p_.scale;
+    const bool agrees = e.distance + e.error_bound >= g_.lower_bound - rounding;
+    return e.status == Status::ok && agrees && (g_.distance <= band || e.error_bound <= g_.error_bound);
+  }
+
+  const Setup& p_;
+  const PlacedB& placed_b_;
+  const GjkResult& g_;
+  const PenetrationSettings& settings_;
+  bool parallel_tried_ = false;
+  bool parallel_known_ = false;
+  EpaResult parallel_;
+};
+
 template <class SA, class SB>
 PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, GjkCache* cache,
                                     const PenetrationSettings& settings) {
@@ -187,156 +411,16 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
   out.gjk_iterations = g.iterations;
   out.support_calls = g.support_calls;
   if (g.status == GjkStatus::degenerate) return out;
-  // The cores' signed distance, normal (A's core frame) and witnesses:
-  // GJK's when the cores are clearly apart, EPA's when they overlap or touch.
-  double core_distance = g.distance;
-  Eigen::Vector3d n = Eigen::Vector3d::Zero(), core_a = g.point_a, core_b = g.point_b;
-  bool answered = false;
-  const double band = settings.touching_band * p.scale;
-  // GJK's distance is unsigned: with a certified lower bound of 0 it only
-  // says "within error_bound of touching or overlapping", and the shapes may
-  // be deep inside each other (seen: nearly coaxial cylinders, GJK's
-  // triangle through the origin, |v| = 1e-14, true depth 0.71). Then only
-  // the signed answer (EPA's, or the exact one for cores of revolution)
-  // counts, whatever its status, as for overlapping cores.
-  const bool overlap_possible = g.intersecting || !(g.lower_bound > 0.0);
-  if (overlap_possible || g.lower_bound <= band) {
-    // Overlapping cores of revolution with parallel axes: the exact
-    // meridian-section answer (revolution.hpp) where EPA's polytope could
-    // not certify a depth that is the same over a circle of directions.
-    EpaResult e;
-    // Nearly coaxial cores of revolution (axes within kCoaxialTilt): the
-    // certified branch and bound over directions (tilted_revolution.hpp)
-    // first, EPA only when it hits its cap.
-    const bool exact_parallel = overlap_possible && revolution_penetration(p.core_a, p.core_b, p.relative, p.scale,
-                                                                           p.relative.translation, settings.epa, e);
-    bool tilted_done = false;
-    EpaResult parallel;
-    bool parallel_known = false;
-    if (overlap_possible && !exact_parallel && nearly_coaxial(p.core_a, p.core_b, p.relative)) {
-      parallel_known = revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation,
-                                              settings.epa, parallel, true);
-      const Eigen::Vector3d hints[2] = {parallel_known ? parallel.normal : Eigen::Vector3d(-g.v),
-                                        p.relative.translation};
-      EpaResult q;
-      TiltedRevolutionSettings first;
-      first.max_squares = kCoaxialFirstSquares;
-      if (tilted_revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, hints, 2, settings.epa, q, first) &&
-          q.status == EpaStatus::ok) {
-        e = q;
-        tilted_done = true;
-      }
-    }
-    if (!exact_parallel && !tilted_done)
-      e = epa_penetration(p.core_a, placed_b, g.simplex, p.scale, p.relative.translation, settings.epa);
-    // EPA could not converge on two cores of revolution (nearly coaxial
-    // cylinders and cones: the depth is almost the same over a circle of
-    // directions, and the polytope fills up before its lower bound rises):
-    // the exact answer of the pair with B's axis made parallel to A's,
-    // within theta R_B of the true depth, brackets it as well. Combined:
-    // the larger of the two certified lower bounds, and the smallest of
-    // the certified upper bounds that come with a normal: EPA's depth (the
-    // best support value it saw) and the support value h_D of the true pair
-    // along the parallel answer's normal (every h_D(n) bounds the depth from
-    // above; this one is within theta R_B of the parallel depth).
-    // And the branch and bound's own bracket, with its full budget.
-    if (overlap_possible && e.status != EpaStatus::ok && e.status != EpaStatus::degenerate) {
-      EpaResult r = parallel;
-      double lower = e.depth - e.error_bound;
-      const auto take_upper = [&](double h, const Eigen::Vector3d& normal, const Eigen::Vector3d& pa,
-                                  const Eigen::Vector3d& pb) {
-        if (std::isfinite(h) && h < e.depth) {
-          e.depth = h;
-          e.normal = normal;
-          e.point_a = pa;
-          e.point_b = pb;
-        }
-      };
-      bool bracketed = false;
-      if (parallel_known || revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, p.relative.translation,
-                                                   settings.epa, r, true)) {
-        const Eigen::Vector3d sa = p.core_a.support(r.normal), sb = placed_b.support(-r.normal);
-        lower = std::max(lower, r.depth - r.error_bound);
-        take_upper(r.normal.dot(sa - sb), r.normal, sa, sb);
-        bracketed = true;
-      }
-      const Eigen::Vector3d hints[2] = {e.normal, r.normal};
-      EpaResult q;
-      if (tilted_revolution_penetration(p.core_a, p.core_b, p.relative, p.scale, hints, bracketed ? 2 : 1, settings.epa,
-                                        q)) {
-        lower = std::max(lower, q.depth - q.error_bound);
-        take_upper(q.depth, q.normal, q.point_a, q.point_b);
-        bracketed = true;
-      }
-      if (bracketed) {
-        e.error_bound = std::max(e.depth - lower, 0.0);
-        const double tolerance =
-            std::max(settings.epa.relative_tolerance * e.depth, settings.epa.absolute_tolerance * p.scale);
-        if (e.error_bound <= tolerance) e.status = EpaStatus::ok;
-      }
-    }
-    out.epa_iterations = e.iterations;
-    out.support_calls += e.support_calls;
-    // Overlap possible: the signed answer, whatever its status. Touching
-    // from outside (GJK certifies a separation, but not above the band),
-    // GJK's answer is valid too: EPA's replaces it when it converged and
-    // either GJK's normal is rounding noise (|v| within the band) or EPA's
-    // certified error is smaller (GJK stalls on curved cores near contact).
-    // And only when the two agree: GJK's lower bound, v . w / |v| with w an
-    // exact support point, survives rounding to a few eps of the scale,
-    // while EPA's planes on slivers do not (found by fuzzing: a needle of
-    // aspect 1.3e9 1.66e-6 from a segment, GJK certifying >= 1.23e-6 and
-    // EPA claiming an overlap of 7e-10 with a zero bound). An EPA answer
-    // whose certified interval lies below GJK's certified separation is
-    // rounding, not an answer.
-    const double rounding = 64.0 * std::numeric_limits<double>::epsilon() * p.scale;
-    const bool agrees = -e.depth + e.error_bound >= g.lower_bound - rounding;
-    const bool epa_better =
-        e.status == EpaStatus::ok && agrees && (g.distance <= band || e.error_bound <= g.error_bound);
-    // EPA stalled (rounding), and GJK's own bracket of the signed distance,
-    // [signed lower bound, |v|], is narrower than EPA's error bound: GJK's
-    // answer is the better one, the upper end |v| with normal -v/|v| (found
-    // on needles of aspect 1e9 a hair apart: GJK converged with |v| below
-    // its tolerance, EPA's first polytope was a sliver and it stalled). It
-    // is ok when the bracket is within GJK's tolerance; stalled, with the
-    // bracket as its bound, otherwise. (A cap or a full polytope keeps its
-    // own status: the caller asked for the cap, and a deep pair's bracket
-    // is wide anyway.)
-    const double vn = g.v.norm();
-    const double gjk_gap = vn - g.signed_lower_bound;
-    if (e.status == EpaStatus::stalled && g.status == GjkStatus::ok && vn > 0.0 && gjk_gap < e.error_bound) {
-      const double tolerance =
-          std::max(settings.gjk.relative_tolerance * vn, settings.gjk.absolute_tolerance * p.scale);
-      out.status = gjk_gap <= tolerance ? Status::ok : Status::stalled;
-      core_distance = vn;
-      n = -g.v / vn;
-      out.error_bound = gjk_gap;
-      answered = true;
-    } else if (overlap_possible || epa_better) {
-      out.status = to_status(e.status);
-      if (e.status == EpaStatus::degenerate) return out;
-      core_distance = -e.depth;
-      n = e.normal;
-      core_a = e.point_a;
-      core_b = e.point_b;
-      out.error_bound = e.error_bound;
-      answered = true;
-    }
-  }
-  if (!answered) {
-    // Separated cores: |v| > GJK's zero threshold > 0.
-    n = -g.v / g.distance;
-    out.error_bound = g.error_bound;
-  }
-  out.distance = core_distance - (p.radius_a + p.radius_b);
+  PenetrationSteps<PairSetup<SA, SB>, decltype(placed_b)> steps(p, placed_b, g, settings);
+  const SignedAnswer core = steps.choose(out);
+  out.status = core.status;
+  if (core.status == Status::degenerate) return out;
+  HEDRA_ASSERT(is_unit(core.normal) && core.error_bound >= 0.0);
+  out.error_bound = core.error_bound;
+  out.distance = core.distance - (p.radius_a + p.radius_b);
   out.intersecting = out.distance <= 0.0;
-  make_consistent(core_a, core_b, core_distance, n);
-  const Eigen::Vector3d local_a = core_a + p.radius_a * n;
-  const Eigen::Vector3d local_b = core_b - p.radius_b * n;
-  const Eigen::Vector3d offset_a = core_offset(a);
-  out.normal = pose_a.rotation * n;
-  out.point_a = pose_a.rotation * (offset_a + local_a) + pose_a.translation;
-  out.point_b = pose_a.rotation * (offset_a + local_b) + pose_a.translation;
+  place_in_world(out, core_offset(a), pose_a, p.radius_a, p.radius_b, core.point_a, core.point_b, core.distance,
+                 core.normal);
   return out;
 }
 

@@ -165,37 +165,36 @@ SatAxis sat_face_axis(const SatPolytope& a, const SatPolytope& b, const Relative
   return of_a ? face_of_a(a, b, b_in_a, face) : face_of_b(a, b, b_in_a, face);
 }
 
-SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, const SatSettings& settings) {
-  SatResult out;
-  const hull::HalfEdgeMesh& ma = *a.mesh;
-  const hull::HalfEdgeMesh& mb = *b.mesh;
-  if (!a.poly && !b.poly) {  // two boxes: closed forms
-    box_face_query(a, b, rel, out);
-    if (out.face_a.separation > settings.early_out || out.face_b.separation > settings.early_out) {
-      out.separated = true;
-      return out;
-    }
-    box_edge_query(a, b, rel, settings, out);
-    return out;
-  }
-  // Faces of A.
-  for (hull::Index f = 0; f < ma.face_count(); ++f) {
+namespace {
+
+// Faces of A, then faces of B; true when one separates beyond early_out.
+bool hull_face_query(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, const SatSettings& settings,
+                     SatResult& out) {
+  for (hull::Index f = 0; f < a.mesh->face_count(); ++f) {
     const SatAxis axis = face_of_a(a, b, rel, f);
     if (axis.separation > out.face_a.separation) out.face_a = axis;
     if (axis.separation > settings.early_out) {
       out.separated = true;
-      return out;
+      return true;
     }
   }
-  // Faces of B.
-  for (hull::Index f = 0; f < mb.face_count(); ++f) {
+  for (hull::Index f = 0; f < b.mesh->face_count(); ++f) {
     const SatAxis axis = face_of_b(a, b, rel, f);
     if (axis.separation > out.face_b.separation) out.face_b = axis;
     if (axis.separation > settings.early_out) {
       out.separated = true;
-      return out;
+      return true;
     }
   }
+  return false;
+}
+
+// Edge pairs whose Gauss-map arcs cross (see sat.hpp); stops at the first
+// pair that separates beyond early_out.
+void hull_edge_query(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, const SatSettings& settings,
+                     SatResult& out) {
+  const hull::HalfEdgeMesh& ma = *a.mesh;
+  const hull::HalfEdgeMesh& mb = *b.mesh;
   // Edge pairs whose Gauss-map arcs cross. Outer loop over B so that B's
   // data is rotated into A's frame once per edge of B. A's edge vectors are
   // gathered once into flat arrays on the stack (up to kEdgeCache edges,
@@ -249,10 +248,9 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
       // A's arc (na, nb) and on -B's arc (c, d) with non-negative weights,
       // so its dot with na + nb + c + d is positive. Not "away from A's
       // centroid": an edge through the centroid (a box with zero extents,
-      // a flat hull) leaves that sign to rounding (found by fuzzing: a
-      // segment-like box touching a hull read as 4.6e-4 apart). Both arcs
-      // half circles (two flat shapes: the sum is rounding noise of unit
-      // normals, ~1e-16, far below 1e-6): the centroid rule.
+      // a flat hull) leaves that sign to rounding. Both arcs half circles
+      // (two flat shapes: the sum is rounding noise of unit normals,
+      // ~1e-16, far below 1e-6): the centroid rule.
       const Eigen::Vector3d chords = na + nb + c + d;
       const bool by_arcs = chords.squaredNorm() > 1e-12;
       if ((by_arcs ? n.dot(chords) : n.dot(pa)) < 0.0) n = -n;
@@ -276,7 +274,7 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
         const double cba = -(c.x() * ex[k] + c.y() * ey[k] + c.z() * ez[k]);
         const double dba = -(d.x() * ex[k] + d.y() * ey[k] + d.z() * ez[k]);
         if (!(cba * dba < 0.0)) continue;
-        if (test_pair(edge_index[k], Eigen::Vector3d(ex[k], ey[k], ez[k]), cba)) return out;
+        if (test_pair(edge_index[k], Eigen::Vector3d(ex[k], ey[k], ez[k]), cba)) return;
       }
     } else {
       for (hull::Index ea = 0; ea < half_edges_a; ++ea) {
@@ -285,10 +283,27 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
         const Eigen::Vector3d e_a = a.vertex(ma.origin(ta)) - a.vertex(ma.origin(ea));
         const double cba = -c.dot(e_a), dba = -d.dot(e_a);
         if (!(cba * dba < 0.0)) continue;
-        if (test_pair(ea, e_a, cba)) return out;
+        if (test_pair(ea, e_a, cba)) return;
       }
     }
   }
+}
+
+}  // namespace
+
+SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, const SatSettings& settings) {
+  SatResult out;
+  if (!a.poly && !b.poly) {  // two boxes: closed forms
+    box_face_query(a, b, rel, out);
+    if (out.face_a.separation > settings.early_out || out.face_b.separation > settings.early_out) {
+      out.separated = true;
+      return out;
+    }
+    box_edge_query(a, b, rel, settings, out);
+    return out;
+  }
+  if (hull_face_query(a, b, rel, settings, out)) return out;
+  hull_edge_query(a, b, rel, settings, out);
   return out;
 }
 

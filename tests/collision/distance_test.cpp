@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <hedra/collision/gjk.hpp>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
 #include <limits>
@@ -649,7 +650,7 @@ TEST(GjkSubAlgorithm, TriangleNormalOfASliverIsOrthogonalToItsEdges) {
     const double h = length * std::pow(10.0, -12.0 * u(rng));
     const std::array<Vec, 3> p = {offset - length * u(rng) * along, offset + length * u(rng) * along,
                                   offset + (length * (u(rng) - 0.5)) * along + h * across};
-    const Vec n = gjk_detail::area_vector(p[0], p[1], p[2]);
+    const Vec n = area_vector(p[0], p[1], p[2]);
     ASSERT_GT(n.squaredNorm(), 0.0) << i;
     const double coordinates =
         std::max({p[0].cwiseAbs().maxCoeff(), p[1].cwiseAbs().maxCoeff(), p[2].cwiseAbs().maxCoeff()});

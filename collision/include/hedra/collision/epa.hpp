@@ -1,82 +1,23 @@
-// EPA, the Expanding Polytope Algorithm (van den Bergen, "Proximity Queries
-// and Penetration Depth Computation on 3D Game Objects", GDC 2001; "Collision
-// Detection in Interactive 3D Environments", 2003, section 4.3.7): the
-// penetration depth, normal and witness points of two overlapping convex
-// shapes, over the same support concept as GJK (gjk.hpp), both shapes in one
-// common frame.
+// EPA, the Expanding Polytope Algorithm (van den Bergen, GDC 2001; "Collision
+// Detection in Interactive 3D Environments", 2003, 4.3.7): the signed
+// penetration depth, normal and witnesses of two overlapping (or touching)
+// convex shapes, over GJK's support concept, both in one common frame.
 //
-// The penetration depth is the distance from the origin to the boundary of
-// the Minkowski difference D = A - B (the origin lies inside D when A and B
-// overlap): D's support function is h(u) = max_{x in D} u . x, the depth is
-// min_{|u|=1} h(u) and the minimising u is the normal from A toward B
-// (translating B by depth * u brings the shapes to touching). EPA keeps a
-// convex polytope P inside D around the origin, with vertices w_i = a_i - b_i
-// on D's boundary, and repeats:
-//   f  = the face of P nearest the origin (plane n . x = d, |n| = 1);
-//   w  = support of D along n;
-//   d <= depth <= h(n) = n . w    (P is inside D: its depth d is a lower
-//                                  bound; any direction's support value is
-//                                  an upper bound);
-//   stop when n . w - d <= max(relative_tolerance d, absolute_tolerance
-//   scale), scale being the shapes' size; otherwise add w to P: remove the
-//   faces that see w (n_g . w > d_g), found by a walk over face adjacency
-//   from f, and fan new faces from w to the horizon (the boundary of the
-//   removed region), so that P stays convex.
-// The answer is f's plane: depth d, normal n; the witness points are the
-// barycentric combination, with the coordinates of the origin's projection
-// d n on f, of the A and B support points stored with f's vertices.
-// An exit before convergence (iteration cap, full polytope, stalled)
-// reports instead the direction with the smallest support value seen:
-// depth = that value, a translation of B that certainly separates (d would
-// leave the shapes overlapping), within error_bound of the true depth. Where
-// the depth is nearly constant over many directions (a deep near-sphere, a
-// ball centred on a cylinder's axis) the lower bound d creeps up with the
-// polytope's resolution while the support values are already nearly exact
-// (the query layer answers cores of revolution with parallel axes exactly
-// instead, revolution.hpp; other such pairs keep this honest fallback).
-//
-// Start. EPA begins from the simplex GJK ended with (1 to 4 points whose hull
-// contains the origin, up to GJK's zero threshold). A simplex flatter than
-// flat_tolerance scale is first reduced to a sub-simplex whose hull holds the
-// origin's projection (a near-flat tetrahedron to one of its triangles, a
-// near-collinear triangle to an edge, a near-point segment to a point); then
-// it grows into a tetrahedron with support points along its degenerate
-// directions (any axis for a point, perpendiculars for a segment, +-normal for
-// a triangle), each new point at least flat_tolerance scale off the current
-// affine hull. The origin may then lie on a face or an edge of the
-// tetrahedron (touching, or a GJK simplex through the origin): faces are
-// oriented by the tetrahedron's signed volume, never by the origin, so a face
-// through the origin has d = 0 and a correct outward normal, and EPA expands
-// it like any other. The origin may even lie a hair outside P (a GJK simplex
-// that touches the origin from outside, see query.hpp's touching band): the
-// faces facing it then have d < 0, the nearest face is the one whose plane
-// separates most, and depth = d < 0 is minus that separation. If D has no extent along some direction (two coplanar
-// flat hulls, two segments, two points), D is flat, the origin lies on its
-// boundary and the depth is 0; the normal is then D's normal (flat), a
-// perpendicular (segment) or any unit vector (point), oriented toward the
-// caller's `preferred` direction (B's centre seen from A).
-//
-// Invariants kept:
-//   * every face's (n, d) comes from a cross product whose length is > 0 and
-//     finite (checked before the face exists), so n is a unit vector and
-//     every division by a face's area is safe;
-//   * faces are counter-clockwise seen from outside; each face knows its
-//     three neighbours and the matching edge index in each (a closed,
-//     two-manifold triangulation of a sphere);
-//   * an expansion is applied only after it was validated on the side: the
-//     horizon must be one simple cycle and every new face non-degenerate;
-//     otherwise P is left as it was and the loop stops (status stalled);
-//   * fixed capacity, no heap: kEpaMaxVertices vertices, kEpaMaxFaces faces
-//     (removed faces go back to a free list); running out gives status
-//     polytope_full with the best answer so far;
-//   * every exit leaves finite outputs, a unit normal and
-//     point_a - point_b = depth * normal (the rounding residual of the
-//     barycentric combination is split between the two points).
-//
-// Visibility uses a small threshold (1e-3 of the absolute tolerance): a face
-// that w is above by less than that is kept, so new faces are never slivers
-// of height below it, at the price of P being non-convex by at most that
-// much.
+// A convex polytope P inside D = A - B around the origin grows from GJK's
+// final simplex (reduced if flat, then grown into a tetrahedron; a flat D
+// answers depth 0 at once). Each iteration takes the face f of P nearest the
+// origin (plane n . x = d) and w = s_D(n): d <= depth <= n . w; it stops when
+// the gap is within the tolerance, otherwise removes the faces that see w
+// and fans new faces from w to the horizon. The answer is f's plane; an exit
+// before convergence (cap, full, stalled) reports the smallest support value
+// seen instead (a translation that certainly separates), with the bracket.
+// Invariants (checked in debug builds): unit face normals; a closed
+// two-manifold triangulation (each edge shared by two faces that know each
+// other); an expansion applied only once validated (one simple horizon
+// cycle, non-degenerate new faces), otherwise P unchanged and status
+// stalled; fixed capacity, no heap (kEpaMaxVertices, kEpaMaxFaces);
+// finite outputs and point_a - point_b = depth * normal on every exit.
+// Derivations: docs/design.md, "EPA".
 #pragma once
 
 #include <Eigen/Core>
@@ -85,6 +26,7 @@
 #include <array>
 #include <cmath>
 #include <hedra/collision/gjk.hpp>
+#include <hedra/hull/assert.hpp>
 #include <limits>
 
 namespace hedra::collision {
@@ -116,16 +58,6 @@ inline const char* to_string(EpaStatus status) {
 inline constexpr int kEpaMaxVertices = 128;
 // A convex polytope with V vertices has at most 2V - 4 triangles.
 inline constexpr int kEpaMaxFaces = 2 * kEpaMaxVertices;
-
-struct EpaSettings {
-  int max_iterations = 128;
-  // Stop once h(n) - d <= max(relative_tolerance * d, absolute_tolerance *
-  // scale), scale being the shapes' size.
-  double relative_tolerance = 1e-10;
-  double absolute_tolerance = 1e-10;
-  // Extents of D below flat_tolerance * scale count as zero (D is flat).
-  double flat_tolerance = 1e-10;
-};
 
 struct EpaResult {
   EpaStatus status = EpaStatus::ok;
@@ -163,10 +95,6 @@ Vertex support(const A& a, const B& b, const Eigen::Vector3d& d) {
 // w = a - b is finite exactly when a and b are (an infinite or NaN operand
 // gives an infinite or NaN difference), and w also catches an overflow.
 inline bool finite(const Vertex& v) { return v.w.allFinite(); }
-
-using gjk_detail::area_vector;
-using gjk_detail::cross3;
-using gjk_detail::dot3;
 
 // Parameter in [0, 1] of the point of segment p0 p1 closest to x.
 inline double segment_parameter(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& x) {
@@ -256,6 +184,7 @@ struct Polytope {
     if (!(len > 0.0) || !std::isfinite(len)) return false;
     n = {c.x() / len, c.y() / len, c.z() / len};
     d = (dot3(n, p0) + dot3(n, p1) + dot3(n, p2)) / 3.0;
+    HEDRA_ASSERT(is_unit(n));
     return true;
   }
 
@@ -265,6 +194,29 @@ struct Polytope {
     return -1;
   }
   int available_faces() const { return free_count + (kEpaMaxFaces - face_end); }
+
+  // Face f's edge i is shared with exactly one neighbour, which holds it
+  // reversed as its edge adj_edge[i] and points back: the closed
+  // two-manifold the walks rely on.
+  bool linked(int f) const {
+    const Face& ff = face[f];
+    for (int i = 0; i < 3; ++i) {
+      const int g = ff.adj[i], j = ff.adj_edge[i];
+      if (g < 0 || g >= face_end || j < 0 || j > 2 || !face[g].live) return false;
+      const Face& fg = face[g];
+      if (fg.adj[j] != f || fg.adj_edge[j] != i) return false;
+      if (fg.v[j] != ff.v[(i + 1) % 3] || fg.v[(j + 1) % 3] != ff.v[i]) return false;
+    }
+    return true;
+  }
+  // Capacity and Euler's count: a closed triangulation of a sphere has 2V - 4
+  // faces, V its vertices (vertices of removed regions no longer count, so
+  // at most 2 vertex_count - 4 live faces).
+  bool within_capacity() const {
+    const int live = face_end - free_count;
+    return vertex_count <= kEpaMaxVertices && face_end <= kEpaMaxFaces && free_count <= face_end && live >= 4 &&
+           live <= 2 * vertex_count - 4 && live % 2 == 0;
+  }
 
   static void link(Face& f, int i, int fid, Face& g, int j, int gid) {
     f.adj[i] = gid;
@@ -294,6 +246,7 @@ struct Polytope {
       live_d[f] = face_f.d;
     }
     face_end = 4;
+    for (int f = 0; f < 4; ++f) HEDRA_ASSERT(linked(f));
     return true;
   }
 
@@ -389,6 +342,10 @@ struct Polytope {
       const int next = starting[horizon[i].to];
       link(face[new_face[i]], 1, new_face[i], face[new_face[next]], 2, new_face[next]);
     }
+    // Only the new faces' links changed (a kept face's link to a removed one
+    // now goes to the new face across the same edge).
+    for (int i = 0; i < horizon_count; ++i) HEDRA_ASSERT(linked(new_face[i]));
+    HEDRA_ASSERT(within_capacity());
     return Expansion::done;
   }
 
@@ -545,40 +502,48 @@ inline int reduce_simplex(std::array<Vertex, 4>& p, int k, double flat) {
   return k;
 }
 
-}  // namespace epa_detail
+// The tolerances of one query, from the settings and the pair's size.
+struct Tolerances {
+  double size;      // the pair's scale (0 when not finite and positive)
+  double flat;      // extents below it count as zero
+  double absolute;  // the absolute convergence tolerance
+  double visible;   // how far above a face w must be to remove it
+  double noise;     // rounding of a point of D
+};
 
-// Penetration depth of A and B (support types in one common frame) whose
-// overlap (or touching) GJK has established: `simplex` is GJK's final simplex
-// (its hull contains or touches the origin), `scale` the shapes' size,
-// `preferred` a direction from A toward B used only to orient the normal of
-// a flat D (e.g. B's centre minus A's).
+inline Tolerances tolerances_of(const EpaSettings& settings, double scale) {
+  Tolerances t;
+  t.size = std::isfinite(scale) && scale > 0.0 ? scale : 0.0;
+  t.flat = settings.flat_tolerance * t.size;
+  t.absolute = settings.absolute_tolerance * t.size;
+  t.visible = 1e-3 * t.absolute;
+  t.noise = 64.0 * std::numeric_limits<double>::epsilon() * t.size;
+  return t;
+}
+
+// Phase 1: GJK's simplex reduced (reduce_simplex), then grown along its
+// degenerate directions into a tetrahedron of positive volume in `poly`:
+// the first candidate that stands comfortably off the affine hull (1e-3 of
+// the size) is taken, otherwise the farthest of all if it beats `flat`.
+// Returns false when `r` is already the answer (degenerate input, or a flat
+// D whose answer flat_result gives).
 template <class A, class B>
-EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, double scale,
-                          const Eigen::Vector3d& preferred, const EpaSettings& settings = {}) {
-  using epa_detail::Vertex;
-  EpaResult r;
-  const double size = std::isfinite(scale) && scale > 0.0 ? scale : 0.0;
-  const double flat = settings.flat_tolerance * size;
-  const double abs_tolerance = settings.absolute_tolerance * size;
-  const double visible = 1e-3 * abs_tolerance;
-  const double noise = 64.0 * std::numeric_limits<double>::epsilon() * size;
-
-  // ---- 1. a tetrahedron from GJK's simplex -------------------------------
+bool start_polytope(const A& a, const B& b, const GjkSimplex& simplex, const Eigen::Vector3d& preferred,
+                    const Tolerances& tol, Polytope& poly, EpaResult& r) {
   std::array<Vertex, 4> p;
   int k = std::clamp(simplex.size, 0, 4);
   for (int i = 0; i < k; ++i) p[i] = {simplex.w[i], simplex.a[i], simplex.b[i]};
   for (int i = 0; i < k; ++i)
-    if (!epa_detail::finite(p[i])) k = 0;
+    if (!finite(p[i])) k = 0;
   if (k == 0) {
     // Why: GJK failed before the loop (non-finite input); nothing to expand.
     r.status = EpaStatus::degenerate;
-    return r;
+    return false;
   }
-  k = epa_detail::reduce_simplex(p, k, flat);
-  // Grow along the simplex's degenerate directions: the first candidate that
-  // stands comfortably off the affine hull (1e-3 of the size) is taken,
-  // otherwise the farthest of all if it beats `flat`.
+  k = reduce_simplex(p, k, tol.flat);
   while (k < 4) {
+    // The degenerate directions: any axis for a point, perpendiculars for
+    // a segment, +-normal for a triangle.
     std::array<Eigen::Vector3d, 8> dirs;
     int count = 0;
     if (k == 1) {
@@ -595,71 +560,81 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
         dirs[count++] = -d;
       }
     } else {
-      const Eigen::Vector3d n = epa_detail::area_vector(p[0].w, p[1].w, p[2].w).stableNormalized();
+      const Eigen::Vector3d n = area_vector(p[0].w, p[1].w, p[2].w).stableNormalized();
       dirs[count++] = n;
       dirs[count++] = -n;
     }
     Vertex best = p[0];
     double best_height = -1.0;
     for (int i = 0; i < count; ++i) {
-      const Vertex s = epa_detail::support(a, b, dirs[i]);
+      const Vertex s = support(a, b, dirs[i]);
       ++r.support_calls;
-      if (!epa_detail::finite(s)) {
+      if (!finite(s)) {
         r.status = EpaStatus::degenerate;
-        return r;
+        return false;
       }
-      const double height = epa_detail::affine_distance(p, k, s.w);
+      const double height = affine_distance(p, k, s.w);
       if (height > best_height) {
         best_height = height;
         best = s;
       }
-      if (best_height > 1e-3 * size) break;
+      if (best_height > 1e-3 * tol.size) break;
     }
-    if (!(best_height > flat)) return epa_detail::flat_result(p, k, preferred, noise, flat);
+    if (!(best_height > tol.flat)) {
+      r = flat_result(p, k, preferred, tol.noise, tol.flat);
+      return false;
+    }
     p[k++] = best;
   }
-  epa_detail::Polytope poly;
-  {
-    const double det = (p[1].w - p[0].w).dot((p[2].w - p[0].w).cross(p[3].w - p[0].w));
-    if (det < 0.0) std::swap(p[1], p[2]);
-    for (int i = 0; i < 4; ++i) poly.vertex[i] = p[i];
-    poly.vertex_count = 4;
-    if (!poly.init_tetrahedron()) {
-      // Unreachable after reduce_simplex (every face has area), kept as a
-      // guard: report the flat answer rather than divide by zero.
-      return epa_detail::flat_result(p, 3, preferred, noise, flat);
-    }
+  const double det = (p[1].w - p[0].w).dot((p[2].w - p[0].w).cross(p[3].w - p[0].w));
+  if (det < 0.0) std::swap(p[1], p[2]);
+  for (int i = 0; i < 4; ++i) poly.vertex[i] = p[i];
+  poly.vertex_count = 4;
+  if (!poly.init_tetrahedron()) {
+    // Unreachable after reduce_simplex (every face has area), kept as a
+    // guard: report the flat answer rather than divide by zero.
+    r = flat_result(p, 3, preferred, tol.noise, tol.flat);
+    return false;
   }
+  return true;
+}
 
-  // ---- 2. expansion -------------------------------------------------------
-  // The smallest support value seen, its direction and support point: an
-  // upper bound on the depth, and a valid separating translation.
+// The smallest support value seen, its direction and support point: an
+// upper bound on the depth, and a valid separating translation.
+struct BestSupport {
   double upper = std::numeric_limits<double>::infinity();
-  Eigen::Vector3d upper_n = Eigen::Vector3d::UnitX();
-  Vertex upper_s = poly.vertex[0];
-  int best = poly.closest_face();
+  Eigen::Vector3d n = Eigen::Vector3d::UnitX();
+  Vertex s;
+};
+
+// Phase 2: the expansion, until the nearest face's plane is supporting
+// within the tolerance or a cap, a full polytope or rounding stops it (the
+// status in `r`). Returns the nearest face at the end.
+template <class A, class B>
+int expand_polytope(const A& a, const B& b, const EpaSettings& settings, const Tolerances& tol, Polytope& poly,
+                    BestSupport& best_support, EpaResult& r) {
   for (;;) {
-    best = poly.closest_face();
-    const epa_detail::Face& f = poly.face[best];
+    const int best = poly.closest_face();
+    const Face& f = poly.face[best];
     if (r.iterations >= settings.max_iterations) {
       r.status = EpaStatus::max_iterations;
-      break;
+      return best;
     }
     ++r.iterations;
-    const Vertex s = epa_detail::support(a, b, f.n);
+    const Vertex s = support(a, b, f.n);
     ++r.support_calls;
-    if (!epa_detail::finite(s)) {
+    if (!finite(s)) {
       // Why: a support mapping returned NaN/inf (corrupt shape or pose).
       r.status = EpaStatus::degenerate;
-      break;
+      return best;
     }
-    const double h = epa_detail::dot3(f.n, s.w);
-    if (h < upper) {
-      upper = h;
-      upper_n = f.n;
-      upper_s = s;
+    const double h = dot3(f.n, s.w);
+    if (h < best_support.upper) {
+      best_support.upper = h;
+      best_support.n = f.n;
+      best_support.s = s;
     }
-    if (h - f.d <= std::max(settings.relative_tolerance * std::max(f.d, 0.0), abs_tolerance)) break;
+    if (h - f.d <= std::max(settings.relative_tolerance * std::max(f.d, 0.0), tol.absolute)) return best;
     bool duplicate = false;
     for (int i = 0; i < poly.vertex_count && !duplicate; ++i) duplicate = poly.vertex[i].w == s.w;
     if (duplicate) {
@@ -667,58 +642,65 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
       // the tolerance means rounding made P non-convex; adding it again
       // would make a zero-area face.
       r.status = EpaStatus::stalled;
-      break;
+      return best;
     }
-    const auto expansion = poly.expand(best, s, visible, r.iterations);
-    if (expansion == epa_detail::Polytope::Expansion::full) {
+    const auto expansion = poly.expand(best, s, tol.visible, r.iterations);
+    if (expansion == Polytope::Expansion::full) {
       r.status = EpaStatus::polytope_full;
-      break;
+      return best;
     }
-    if (expansion == epa_detail::Polytope::Expansion::invalid) {
+    if (expansion == Polytope::Expansion::invalid) {
       r.status = EpaStatus::stalled;
-      break;
+      return best;
     }
   }
+}
 
-  // ---- 3. the answer from the closest face --------------------------------
-  // The projection d n of the origin normally lies in the closest face; when
-  // it falls just outside (in a coplanar neighbour of a triangulated face of
-  // D), a face within the tolerance band whose own projection is interior
-  // gives the same plane with exact witnesses and a tight bound.
-  std::array<double, 3> lambda;
-  const epa_detail::Face* chosen = &poly.face[best];
-  if (!epa_detail::triangle_barycentric(poly.vertex[chosen->v[0]].w, poly.vertex[chosen->v[1]].w,
-                                        poly.vertex[chosen->v[2]].w, chosen->d * chosen->n, lambda)) {
-    const double band = chosen->d + std::max(settings.relative_tolerance * std::abs(chosen->d), abs_tolerance);
-    for (int g = 0; g < poly.face_end; ++g) {
-      const epa_detail::Face& fg = poly.face[g];
-      std::array<double, 3> lg;
-      if (!fg.live || g == best || fg.d > band) continue;
-      if (epa_detail::triangle_barycentric(poly.vertex[fg.v[0]].w, poly.vertex[fg.v[1]].w, poly.vertex[fg.v[2]].w,
-                                           fg.d * fg.n, lg)) {
-        // Its plane must also be supporting within the tolerance (on a
-        // curved D a face of the band may not have been tested yet): one
-        // support call decides.
-        const Vertex sg = epa_detail::support(a, b, fg.n);
-        ++r.support_calls;
-        if (!epa_detail::finite(sg) || fg.n.dot(sg.w) - fg.d > band - chosen->d) continue;
-        chosen = &fg;
-        lambda = lg;
-        break;
-      }
+// Phase 3a: the face whose plane answers. The projection d n of the origin
+// normally lies in the nearest face; when it falls just outside (in a
+// coplanar neighbour of a triangulated face of D), a face within the
+// tolerance band whose own projection is interior gives the same plane with
+// exact witnesses and a tight bound. `lambda`: the barycentric coordinates
+// of the chosen face's projection.
+template <class A, class B>
+const Face* answering_face(const A& a, const B& b, const EpaSettings& settings, const Tolerances& tol,
+                           const Polytope& poly, int best, std::array<double, 3>& lambda, EpaResult& r) {
+  const Face* chosen = &poly.face[best];
+  if (triangle_barycentric(poly.vertex[chosen->v[0]].w, poly.vertex[chosen->v[1]].w, poly.vertex[chosen->v[2]].w,
+                           chosen->d * chosen->n, lambda))
+    return chosen;
+  const double band = chosen->d + std::max(settings.relative_tolerance * std::abs(chosen->d), tol.absolute);
+  for (int g = 0; g < poly.face_end; ++g) {
+    const Face& fg = poly.face[g];
+    std::array<double, 3> lg;
+    if (!fg.live || g == best || fg.d > band) continue;
+    if (triangle_barycentric(poly.vertex[fg.v[0]].w, poly.vertex[fg.v[1]].w, poly.vertex[fg.v[2]].w, fg.d * fg.n, lg)) {
+      // Its plane must also be supporting within the tolerance (on a
+      // curved D a face of the band may not have been tested yet): one
+      // support call decides.
+      const Vertex sg = support(a, b, fg.n);
+      ++r.support_calls;
+      if (!finite(sg) || fg.n.dot(sg.w) - fg.d > band - chosen->d) continue;
+      lambda = lg;
+      return &fg;
     }
   }
-  const epa_detail::Face& f = *chosen;
+  return chosen;
+}
+
+// Phase 3b: the answer from face f and its bounds on the true signed depth
+// D* (exact arithmetic): D* <= upper (a support value); if the nearest
+// plane has d >= 0 every face does, the origin is inside P and D* >= d;
+// otherwise q, a point of P (so of D), is |q| from the origin and D* >= -|q|.
+template <class Poly>
+void face_answer(const Poly& poly, const Face& f, double nearest_d, const std::array<double, 3>& lambda,
+                 const BestSupport& best_support, EpaResult& r) {
   r.depth = f.d;
   r.normal = f.n;
   const Vertex* v[3] = {&poly.vertex[f.v[0]], &poly.vertex[f.v[1]], &poly.vertex[f.v[2]]};
-  const Eigen::Vector3d q = epa_detail::set_witnesses(r, v, lambda.data(), 3);
-  // Bounds on the true signed depth D* (exact arithmetic): D* <= upper (a
-  // support value); if the closest plane has d >= 0 every face does, the
-  // origin is inside P and D* >= d; otherwise q, a point of P (so of D), is
-  // |q| from the origin and D* >= -|q|.
-  const double closest_d = poly.face[best].d;
-  const double lower = closest_d >= 0.0 ? closest_d : -q.norm();
+  const Eigen::Vector3d q = set_witnesses(r, v, lambda.data(), 3);
+  const double lower = nearest_d >= 0.0 ? nearest_d : -q.norm();
+  const double upper = best_support.upper;
   if (!std::isfinite(upper)) {
     // No support value yet (max_iterations = 0): the face answer, no bound.
     r.error_bound = std::numeric_limits<double>::max();
@@ -733,14 +715,37 @@ EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, dou
     // better estimate: report it. Witnesses: the support points, moved
     // apart along the supporting planes by half their lateral offset each.
     r.depth = upper;
-    r.normal = upper_n;
-    const Eigen::Vector3d lateral = upper_s.w - upper * upper_n;
-    r.point_a = upper_s.a - 0.5 * lateral;
-    r.point_b = upper_s.b + 0.5 * lateral;
+    r.normal = best_support.n;
+    const Eigen::Vector3d lateral = best_support.s.w - upper * best_support.n;
+    r.point_a = best_support.s.a - 0.5 * lateral;
+    r.point_b = best_support.s.b + 0.5 * lateral;
     r.error_bound = std::max(upper - lower, 0.0);
   } else {
     r.error_bound = std::numeric_limits<double>::max();
   }
+}
+
+}  // namespace epa_detail
+
+// Penetration depth of A and B (support types in one common frame) whose
+// overlap (or touching) GJK has established: `simplex` is GJK's final simplex
+// (its hull contains or touches the origin), `scale` the shapes' size,
+// `preferred` a direction from A toward B used only to orient the normal of
+// a flat D (e.g. B's centre minus A's).
+template <class A, class B>
+EpaResult epa_penetration(const A& a, const B& b, const GjkSimplex& simplex, double scale,
+                          const Eigen::Vector3d& preferred, const EpaSettings& settings = {}) {
+  EpaResult r;
+  const epa_detail::Tolerances tol = epa_detail::tolerances_of(settings, scale);
+  epa_detail::Polytope poly;
+  if (!epa_detail::start_polytope(a, b, simplex, preferred, tol, poly, r)) return r;
+  epa_detail::BestSupport best_support;
+  best_support.s = poly.vertex[0];
+  const int best = epa_detail::expand_polytope(a, b, settings, tol, poly, best_support, r);
+  std::array<double, 3> lambda;
+  const epa_detail::Face* f = epa_detail::answering_face(a, b, settings, tol, poly, best, lambda, r);
+  epa_detail::face_answer(poly, *f, poly.face[best].d, lambda, best_support, r);
+  HEDRA_ASSERT(r.status == EpaStatus::degenerate || (is_unit(r.normal) && std::isfinite(r.depth)));
   return r;
 }
 

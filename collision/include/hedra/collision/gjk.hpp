@@ -1,66 +1,22 @@
 // GJK (Gilbert, Johnson, Keerthi 1988) over support mappings, with the
-// signed-volumes sub-algorithm of Montanari, Petrinic and Barbieri,
-// "Improving the GJK algorithm for faster and more reliable distance
-// queries between convex objects", ACM TOG 36(3), 2017.
+// signed-volumes sub-algorithm of Montanari, Petrinic and Barbieri (ACM TOG
+// 36(3), 2017). Both shapes are support types (`support(d) const`) in one
+// common frame (the query layer uses A's core frame).
 //
-// Both shapes are support types (`support(d) const`) in one common frame
-// (the query layer uses A's core frame). The algorithm searches the point v
-// of the Minkowski difference A - B closest to the origin:
-//   w = s_A(-v) - s_B(v)            the difference's support point against v;
-//   v . w / |v| <= distance <= |v|  (v . w / |v| is a certified lower bound:
-//                                    every x in A - B has v . x >= v . w);
-//   gap = |v|^2 - v . w >= 0        the Frank-Wolfe duality gap, so
-//                                    |v| - distance <= gap / |v|.
-// Each iteration adds w to the simplex (at most 4 points w_i = a_i - b_i) and
-// replaces the simplex by the smallest sub-simplex whose hull contains the
-// point closest to the origin, with barycentric weights lambda_i; then
-// v = sum lambda_i w_i and the witness points are sum lambda_i a_i and
-// sum lambda_i b_i.
-//
-// Signed volumes. The sub-simplex is chosen from signs only: the origin's
-// barycentric coordinates are ratios of signed volumes (areas, lengths) of
-// sub-simplices, computed on the coordinate projection that maximises the
-// simplex's own volume, and a sub-simplex is accepted only when every
-// coordinate has the sign of the total. Unlike Johnson's distance
-// sub-algorithm or Voronoi-region tests, no determinant is compared against
-// a threshold, so near-degenerate simplices cannot flip between regions: a
-// flat tetrahedron or a collinear triangle simply fails the sign test and its
-// faces (edges) are examined instead. Signs that are pure rounding can still
-// mark the wrong faces as the ones to examine, so the faces (edges) through
-// the support point just added are always examined too (s3d explains why).
-//
-// The closest point itself is not taken as sum lambda_i w_i: that sum carries
-// an absolute rounding error of eps |w| (the simplex's size), which near
-// contact (|v| ~ 1e-9 |w|) turns v's direction by eps |w| / |v| ~ 1e-7 rad.
-// Against nearly parallel faces the next support point depends on that
-// direction, and the loop used to end on a "duplicate" vertex with the
-// duality gap still large (distances of 1e-8 reported for 1e-12). Instead v
-// is the origin's projection on the sub-simplex's affine hull computed from
-// its normal, (c . n / |n|^2) n for a triangle, whose direction is n's
-// (relative error eps, whatever |v|); lambda_i only give the witnesses.
-//
-// Termination (whichever comes first; every exit keeps finite outputs):
-//   * |v| <= zero threshold (16 eps x scale) or the simplex is a tetrahedron
-//     containing the origin: the cores overlap or touch (intersecting);
-//   * the certified gap |v| - lower <= max(relative_tolerance |v|,
-//     absolute_tolerance scale), lower being the best v . w / |v| of all
-//     iterations: the distance error is below the tolerance (ok);
-//   * w equals a simplex vertex (a duplicate support point), or |v|^2 fails
-//     to decrease strictly (rounding has taken over, or a NaN appeared in the
-//     sub-algorithm): the previous v, still the best, is kept; the status is
-//     ok only if the certified gap is within the tolerance, else stalled.
-//     Up to 4 steps in a row may go "sideways" first (|v|^2 up by at most
-//     16 eps of itself: a true decrease below rounding, as on the large flat
-//     faces of a ground plate), the best simplex restored if they find
-//     nothing better;
-//   * a non-finite support point: status degenerate;
-//   * the iteration cap: status max_iterations, never read as "separated".
-// gjk_intersect additionally stops as soon as the answer is known: separated
-// once v . w > margin |v| (a separating axis), intersecting once
-// |v| <= margin.
-//
-// Warm start: the caller passes the initial search axis (the previous v of
-// the pair, kept in a GjkCache, or the centre difference).
+// The loop searches v, the point of D = A - B nearest the origin: w =
+// s_A(-v) - s_B(v) goes into the simplex (at most 4 points w_i = a_i - b_i),
+// which is replaced by its sub-simplex nearest the origin (chosen from the
+// signs of signed volumes only, no threshold); v is the origin's projection
+// on that sub-simplex's affine hull, computed from its normal.
+// Invariants and bounds: v . w / |v| <= distance <= |v| (certified; the
+// duality gap bounds the error); the simplex holds 1..3 points at the top of
+// the loop; |v|^2 decreases strictly, except up to 4 steps "sideways" within
+// 16 eps of itself, undone unless they lead below the best; every exit
+// keeps finite outputs and a status (ok, stalled, max_iterations,
+// degenerate), never reading a cap as "separated". gjk_intersect stops at
+// the first separating axis (v . w > margin |v|) or once |v| <= margin.
+// Warm start: the caller's initial axis (a GjkCache's last v, or the centre
+// difference). Derivations: docs/design.md, "GJK".
 #pragma once
 
 #include <Eigen/Core>
@@ -68,7 +24,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <hedra/hull/half_edge_mesh.hpp>
+#include <hedra/collision/settings.hpp>
+#include <hedra/collision/vector_math.hpp>
+#include <hedra/hull/assert.hpp>
 #include <limits>
 
 namespace hedra::collision {
@@ -93,24 +51,6 @@ inline const char* to_string(GjkStatus status) {
   }
   return "unknown";
 }
-
-struct GjkSettings {
-  int max_iterations = 128;
-  // The loop stops once the certified distance error is below
-  // max(relative_tolerance * distance, absolute_tolerance * scale), scale
-  // being the shapes' size (bounding radius).
-  double relative_tolerance = 1e-10;
-  double absolute_tolerance = 1e-10;
-};
-
-// Per-pair state the caller may keep between queries (frames: A's core frame,
-// so it stays valid while the pair moves rigidly).
-struct GjkCache {
-  bool valid = false;
-  Eigen::Vector3d axis = Eigen::Vector3d::Zero();  // last v = point_a - point_b
-  hull::Index hint_a = 0;                          // last support vertices of
-  hull::Index hint_b = 0;                          // polyhedra (climb starts)
-};
 
 struct GjkSimplex {
   int size = 0;
@@ -148,7 +88,7 @@ namespace gjk_detail {
 inline bool same_sign(double x, double y) { return (x > 0.0 && y > 0.0) || (x < 0.0 && y < 0.0); }
 
 // A sub-simplex, the barycentric weights of its point nearest the origin,
-// and that point (computed by projection, see the top of this file).
+// and that point (computed by projection: docs/design.md, "GJK").
 struct Sub {
   int size = 0;
   std::array<int, 4> index{};
@@ -201,46 +141,6 @@ inline void s1d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, Sub& ou
   } else {
     vertex(w, i1, out);  // beyond p1
   }
-}
-
-// a . b and a x b written out per coordinate, in Eigen's order for one
-// 3-vector (dot: (a0 b0 + a1 b1) + a2 b2), so the results are the same bits;
-// Eigen's SSE2 code for a lone 3-vector (a packet of two, shuffles, a scalar
-// third) costs more instructions in GJK's and EPA's inner loops.
-inline double dot3(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return (a.x() * b.x() + a.y() * b.y()) + a.z() * b.z();
-}
-inline Eigen::Vector3d cross3(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return {a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(), a.x() * b.y() - a.y() * b.x()};
-}
-
-// Twice the area vector of triangle p0 p1 p2 (normal, length twice the
-// area), accurate in direction on slivers too: the cross product of the two
-// edges that meet opposite the longest one (the most accurate pair: the
-// rounding of e_i x e_j grows with |e_i| |e_j|; all three pairs give the
-// same vector in exact arithmetic), then its component along the longest
-// edge removed. Why: on a sliver (length L, height h) the cross product's
-// rounding, eps L^2, is eps L / h of its length and tilts it in any
-// direction; a tilt about an axis across the triangle moves the plane by L
-// times the tilt at the triangle's ends (found by fuzzing: on a needle of
-// aspect 1.3e9, 2280 long, GJK's v left the Minkowski difference by 3.8e-7
-// and the distance came out 1.28e-6 for 1.66e-6, "ok" with a bound of
-// 5e-8; EPA's face planes on needles gave "ok" depths outside their bound).
-// After the projection the normal is orthogonal to the longest edge to
-// rounding; what remains is a tilt about that edge, which moves the
-// triangle's points (all within h of the edge's line) by at most eps L.
-// Costs 2-5 % of a query's instructions (bench/penetration_profile).
-inline Eigen::Vector3d area_vector(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) {
-  const Eigen::Vector3d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
-  const double l0 = dot3(e0, e0), l1 = dot3(e1, e1), l2 = dot3(e2, e2);
-  const bool longest0 = l0 >= l1 && l0 >= l2, longest1 = !longest0 && l1 >= l2;
-  const Eigen::Vector3d& longest = longest0 ? e0 : (longest1 ? e1 : e2);
-  const double ll = longest0 ? l0 : (longest1 ? l1 : l2);
-  Eigen::Vector3d n = longest0 ? cross3(e1, e2) : (longest1 ? cross3(e2, e0) : cross3(e0, e1));
-  // ll > 0 unless all three points coincide (n = 0 then); a non-finite ll
-  // makes n non-finite, which every caller treats as degenerate.
-  if (ll > 0.0) n -= (dot3(n, longest) / ll) * longest;
-  return n;
 }
 
 // Triangle w[i0] w[i1] w[i2]. `newest` (one of the three indices, or -1):
@@ -406,11 +306,51 @@ inline Eigen::Vector3d weighted(const std::array<Eigen::Vector3d, 4>& p, const G
 
 // |v| from its squared length vv: sqrt(vv), unless vv is small enough to
 // have lost bits to gradual underflow (|v| below about 1e-146), then Eigen's
-// scaled stableNorm (found by fuzzing: a point 8.2e-159 from a point got a
-// normal v / sqrt(vv) of length 1 - 4.7e-9).
+// scaled stableNorm (v / sqrt(vv) is not unit there).
 inline double length_of(const Eigen::Vector3d& v, double vv) {
   constexpr double kFullPrecision = std::numeric_limits<double>::min() / std::numeric_limits<double>::epsilon();
   return vv >= kFullPrecision ? std::sqrt(vv) : v.stableNorm();
+}
+
+// The first support point, against `initial_axis` (or +x when that is zero
+// or not finite): a simplex of one point. False (status degenerate, every
+// output zero) when it is not finite (NaN/inf parameters or poses).
+template <class A, class B>
+bool start(const A& a, const B& b, const Eigen::Vector3d& initial_axis, GjkResult& r) {
+  Eigen::Vector3d axis = initial_axis;
+  if (!axis.allFinite() || !(axis.squaredNorm() > 0.0)) axis = Eigen::Vector3d::UnitX();
+  GjkSimplex& s = r.simplex;
+  s.a[0] = a.support(-axis);
+  s.b[0] = b.support(axis);
+  r.support_calls = 1;
+  s.w[0] = s.a[0] - s.b[0];
+  if (!s.w[0].allFinite()) {
+    r.status = GjkStatus::degenerate;
+    s.size = 0;
+    return false;
+  }
+  s.size = 1;
+  s.lambda[0] = 1.0;
+  return true;
+}
+
+// The outputs from the final simplex, v = its point nearest the origin
+// (|v|^2 = vv), and the best lower bounds (clamped at 0, and signed).
+inline void finish(const Eigen::Vector3d& v, double vv, double lower, double signed_lower, GjkResult& r) {
+  const GjkSimplex& s = r.simplex;
+  r.point_a = weighted(s.a, s);
+  r.point_b = weighted(s.b, s);
+  r.v = v;
+  r.signed_lower_bound = std::min(signed_lower, length_of(v, vv));
+  if (r.intersecting) {
+    r.distance = 0.0;
+    r.lower_bound = 0.0;
+    r.error_bound = 0.0;
+  } else {
+    r.distance = length_of(v, vv);
+    r.lower_bound = std::min(std::max(lower, 0.0), r.distance);
+    r.error_bound = r.distance - r.lower_bound;
+  }
 }
 
 template <bool kBoolean, class A, class B>
@@ -420,21 +360,8 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
   const double abs_tolerance = settings.absolute_tolerance * scale;
   const double zero = 16.0 * std::numeric_limits<double>::epsilon() * scale;
 
-  Eigen::Vector3d axis = initial_axis;
-  if (!axis.allFinite() || !(axis.squaredNorm() > 0.0)) axis = Eigen::Vector3d::UnitX();
   GjkSimplex& s = r.simplex;
-  s.a[0] = a.support(-axis);
-  s.b[0] = b.support(axis);
-  r.support_calls = 1;
-  s.w[0] = s.a[0] - s.b[0];
-  if (!s.w[0].allFinite()) {
-    // Why: NaN/inf parameters or poses; every output stays zero.
-    r.status = GjkStatus::degenerate;
-    s.size = 0;
-    return r;
-  }
-  s.size = 1;
-  s.lambda[0] = 1.0;
+  if (!start(a, b, initial_axis, r)) return r;
   Eigen::Vector3d v = s.w[0];
   double vv = v.squaredNorm();
   double lower = 0.0;
@@ -446,6 +373,11 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
   GjkSimplex best_simplex;
   Eigen::Vector3d best_v = v;
   double best_vv = vv;
+#if HEDRA_ASSERTS_ENABLED
+  // The smallest |v|^2 held so far: what the loop guarantees is that it
+  // ends there (sideways steps only rise above it, and are undone).
+  double least_vv = vv;
+#endif
 
   for (;;) {
     if (vv <= zero * zero || (kBoolean && vv <= margin * margin)) {
@@ -456,6 +388,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
       r.status = GjkStatus::max_iterations;
       break;
     }
+    HEDRA_ASSERT(s.size >= 1 && s.size <= 3);  // a tetrahedron has ended the loop
     ++r.iterations;
     const Eigen::Vector3d pa = a.support(-v);
     const Eigen::Vector3d pb = b.support(v);
@@ -476,8 +409,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
       // Converged. Without a positive lower bound (no axis separates the
       // cores, beyond the margin for the boolean query) the origin may be
       // inside: |v| <= tolerance is the cores touching within tolerance, not
-      // a separation (found by fuzzing: a point deep in a large cylinder
-      // stopped at |v| = 4e-11 and read as "separated").
+      // a separation.
       if (lower <= (kBoolean ? margin : 0.0)) r.intersecting = true;
       break;
     }
@@ -507,16 +439,11 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     // Strict decrease, written so that NaN fails it: keep the previous,
     // better simplex and stop (the gap was above the tolerance).
     // Except for a few steps sideways: a step whose true decrease is below
-    // the rounding of |v|^2 (a few eps) while the gap is still large. Found
-    // by fuzzing: a small cone 5.124 below a flat cylinder of radius 63 625
-    // (a ground plate): the first two support points are opposite points of
-    // the plate's rim, the third a rim point at right angles, and the
-    // triangle through them is tilted by 1.6e-8 rad from the face, which
-    // lowers |v| by 1.3e-16 of itself; computed, it rose by 1 ulp, and GJK
-    // stopped `stalled` at 5.125 (bound 1e-3). The tilted v points the next
-    // support at the opposite rim, and the step after converges. The best
-    // simplex so far is kept aside and restored if the sideways steps end
-    // without going below it.
+    // the rounding of |v|^2 (a few eps) while the gap is still large (a
+    // triangle across a wide flat face, tilted from it by rounding: see
+    // docs/design.md, "GJK's sideways steps"). The best simplex so far is
+    // kept aside and restored if the sideways steps end without going
+    // below it.
     if (!(vv_next < vv)) {
       constexpr double kSidewaysRounding = 16.0 * std::numeric_limits<double>::epsilon();
       if (vv_next <= vv * (1.0 + kSidewaysRounding) && sideways < kMaxSideways) {
@@ -526,6 +453,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
           best_vv = vv;
         }
         ++sideways;
+        HEDRA_ASSERT(sideways <= kMaxSideways && best_vv <= vv_next);
         adopt(s, sub);
         v = sub.point;
         vv = vv_next;
@@ -538,6 +466,9 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     adopt(s, sub);
     v = sub.point;
     vv = vv_next;
+#if HEDRA_ASSERTS_ENABLED
+    least_vv = std::min(least_vv, vv);
+#endif
   }
   // Sideways steps that found nothing better: back to the best simplex.
   if (sideways > 0 && !r.intersecting && best_vv < vv) {
@@ -546,19 +477,8 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
     vv = best_vv;
   }
 
-  r.point_a = weighted(s.a, s);
-  r.point_b = weighted(s.b, s);
-  r.v = v;
-  r.signed_lower_bound = std::min(signed_lower, length_of(v, vv));
-  if (r.intersecting) {
-    r.distance = 0.0;
-    r.lower_bound = 0.0;
-    r.error_bound = 0.0;
-  } else {
-    r.distance = length_of(v, vv);
-    r.lower_bound = std::min(std::max(lower, 0.0), r.distance);
-    r.error_bound = r.distance - r.lower_bound;
-  }
+  HEDRA_ASSERT(r.intersecting || !(vv > least_vv));
+  finish(v, vv, lower, signed_lower, r);
   return r;
 }
 

@@ -27,8 +27,10 @@
 // better, see PenetrationSettings::touching_band). Overlapping or touching
 // cores, or cores GJK cannot certify to be apart at all (lower bound 0):
 // EPA on the cores from GJK's final simplex (overlapping cores of
-// revolution with parallel axes: the exact meridian-section answer of
-// revolution.hpp instead), and
+// revolution: the exact meridian-section answer of revolution.hpp for
+// parallel axes, the certified branch and bound of tilted_revolution.hpp
+// for nearly coaxial ones; docs/design.md, "Why penetration() tries what it
+// tries"), and
 //   distance = -(core depth + r_a + r_b),
 //   point_a  = core point_a + r_a n,   point_b = core point_b - r_b n.
 // Either way point_b - point_a = distance * normal.
@@ -39,9 +41,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <hedra/collision/epa.hpp>
-#include <hedra/collision/gjk.hpp>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/pose.hpp>
+#include <hedra/collision/settings.hpp>
 #include <hedra/collision/shapes.hpp>
 
 namespace hedra::collision {
@@ -61,8 +62,7 @@ const char* to_string(Status status);
 // The smallest non-zero extent of a pair that queries accept, the mirror of
 // max_shape_size and max_coordinate (and of hull::min_input_extent): queries
 // square lengths, and squares of lengths below about 1e-154 underflow, so a
-// pair that small has no trustworthy answer (found by fuzzing: a point
-// 2e-170 from a point read as touching).
+// pair that small has no trustworthy answer.
 constexpr double min_pair_extent = 1e-60;
 
 // The pair's extent is the largest of both shapes' bounding radii and the

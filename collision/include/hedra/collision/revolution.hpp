@@ -1,42 +1,17 @@
 // Penetration of two cores of revolution with parallel axes, exactly, by
 // reduction to the meridian plane.
 //
-// Why: where the penetration depth is the same over a whole circle of
-// directions (a ball anywhere on a cylinder's axis, coaxial cylinders and
-// cones, a capsule along a cylinder's axis), EPA's lower bound - the depth of
-// a polytope inscribed in the Minkowski difference D - rises only as the
-// square of the polytope's angular resolution: 1e-10 of the size would need
-// ~1e5 vertices. The symmetry that causes it also removes it:
-//
-//   * A core of revolution (point, segment, cylinder, cone; axis z of its
-//     frame) has a support function h(u) = c . u + f(|u_perp|, u . k) for
-//     its centre c and axis k; the sum of two such functions with the same
-//     k is again of that form, so D = A - B is a solid of revolution about
-//     the line through the difference of the centres along k, and its
-//     meridian section (the cut by a plane through the axis, both sides) is
-//     the Minkowski sum of the sections of A and -B: polygons (a point, a
-//     segment, a rectangle, a triangle), so the section of D is a polygon
-//     with at most 16 vertices, exact.
-//   * The depth of a point inside a solid of revolution is reached in the
-//     meridian half-plane through that point (rotating a boundary point
-//     about the axis into that half-plane never increases its distance), so
-//     the 3D depth is the 2D depth of the origin's position (radial, axial)
-//     in D's section: the smallest edge-plane offset of a convex polygon.
-//   * Witnesses: the nearest point of the section's boundary is a convex
-//     combination of two section vertices, each the sum of a vertex of A's
-//     section and one of -B's; the same weights on those section points,
-//     placed in the 3D meridian plane, give points of A and of B.
-//
-// Axes that are parallel only up to an angle theta: B turned about its
-// centre by theta moves by at most theta R_B (R_B the bounding radius of B's
-// core), so the depth of the exactly parallel pair is within theta R_B of
-// the true one; the reduction is used only when that bound is below the
-// EPA tolerance, and it is reported in error_bound. Otherwise (or when the
-// origin is not strictly inside the section, or both cores are points) the
-// caller runs EPA. With `any_tilt` the reduction answers whatever the tilt
-// (error_bound then includes theta R_B): a bracket the caller combines with
-// EPA's when EPA could not converge (nearly coaxial cylinders, whose depth
-// is almost the same over a circle of directions).
+// Where the depth is the same over a circle of directions (a ball on a
+// cylinder's axis, coaxial cylinders and cones) EPA's lower bound rises only
+// as the square of its polytope's resolution. With parallel axes D = A - B
+// is itself a solid of revolution; its meridian section is the Minkowski sum
+// of the cores' sections (polygons of at most 4 vertices, so at most 16
+// sums), the 3D depth is the 2D depth of the origin in that section, and
+// the witnesses are the section points placed back in the meridian plane.
+// Axes parallel only within theta: the answer is within theta R_B
+// (reported in error_bound); the reduction is taken when that is below half
+// the EPA tolerance, or at any tilt with RevolutionTilt::any (a bracket).
+// Derivations: docs/design.md, "Parallel cores of revolution".
 #pragma once
 
 #include <Eigen/Core>
@@ -112,10 +87,16 @@ inline double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const E
 // curved, and the origin is inside D's section; false otherwise (run EPA).
 // Same conventions as epa_penetration: point_a - point_b = depth * normal,
 // normal from A toward B.
+// Which tilt between the two axes revolution_penetration accepts.
+enum class RevolutionTilt {
+  within_tolerance,  // theta R_B within half the EPA tolerance: the exact answer
+  any,               // any finite tilt, theta R_B in error_bound: a bracket
+};
+
 template <class CA, class CB>
 bool revolution_penetration(const CA& core_a, const CB& core_b, const RelativePose& relative, double scale,
                             const Eigen::Vector3d& preferred, const EpaSettings& settings, EpaResult& out,
-                            bool any_tilt = false) {
+                            RevolutionTilt accepted = RevolutionTilt::within_tolerance) {
   using revolution_detail::Section;
   const Section sa = revolution_detail::section_of(core_a);
   const Section sb = revolution_detail::section_of(core_b);
@@ -128,7 +109,7 @@ bool revolution_penetration(const CA& core_a, const CB& core_b, const RelativePo
   const double tilt = sb.free_axis ? 0.0 : std::atan2(k.cross(kb).norm(), std::abs(k.dot(kb)));
   const double tilt_bound = tilt * sb.radius;
   const double tolerance = settings.absolute_tolerance * size;
-  if (!(tilt_bound <= 0.5 * tolerance) && !(any_tilt && std::isfinite(tilt_bound))) return false;
+  if (!(tilt_bound <= 0.5 * tolerance) && !(accepted == RevolutionTilt::any && std::isfinite(tilt_bound))) return false;
 
   // The origin in D's section: D's axis passes through -t (A's axis through
   // the origin, -B's through -t), so the origin sits at t from it.

@@ -16,13 +16,17 @@
 //     normals a, b) and of e_B negated (-c, -d) cross on the unit sphere:
 //         (c . (b x a)) (d . (b x a)) < 0,  (a . (d x c)) (b . (d x c)) < 0,
 //         (c . (b x a)) (b . (d x c)) > 0
-//     (the four dot products; b x a is parallel to e_A and d x c to e_B, so
-//     the edge vectors stand in for the cross products: no cross product of
-//     two nearly equal normals, whose rounding would decide the signs).
-//     The axis is N = e_A x e_B / |e_A x e_B| turned away from A's centroid
-//     (the core origin), s = N . (p_B - p_A). Nearly parallel edges,
-//     |e_A x e_B| < parallel_tolerance |e_A| |e_B|, are skipped: their axis
-//     is ill-conditioned and a face axis then nearly coincides with it.
+//     (the four dot products; b x a points along -e_A and d x c along -e_B,
+//     so the negated edge vectors stand in for the cross products: no cross
+//     product of two nearly equal normals, whose rounding would decide the
+//     signs). The axis is N = e_A x e_B / |e_A x e_B| turned toward the
+//     point where the two arcs cross (N . (a + b + c + d) >= 0: that point
+//     is a non-negative combination of a, b and of c, d); only when both
+//     arcs are half circles (two flat shapes, a + b + c + d is rounding) is
+//     it turned away from A's centroid (the core origin), N . p_A >= 0.
+//     s = N . (p_B - p_A). Nearly parallel edges, |e_A x e_B| <
+//     parallel_tolerance |e_A| |e_B|, are skipped: their axis is
+//     ill-conditioned and a face axis then nearly coincides with it.
 // The largest separation over all candidates is the SAT separation: > 0
 // proves a gap (a lower bound on the distance; exact when the closest
 // features are a face and a vertex or face); <= 0 means overlap and its
@@ -36,7 +40,7 @@
 //
 // Two boxes: the edge pairs are the 3 x 3 pairs of axis directions, each
 // measured in closed form (|N . t| minus both boxes' projected radii, the
-// classic OBB test), and the edges realising the chosen axis are the
+// classic OBB test, N turned toward B's centre), and the edges realising the chosen axis are the
 // boxes' support edges along it. For overlapping boxes the largest of these
 // 15 separations is the exact depth, like the Gauss-map version's.
 //

@@ -59,8 +59,6 @@ const char* to_string(ShapeError error);
 // (the same bound as hull::max_input_extent for polyhedra): queries square
 // and multiply sizes, which must not overflow a double.
 constexpr double max_shape_size = 1e60;
-// The largest |coordinate| of a pose's translation that queries accept.
-constexpr double max_coordinate = 1e60;
 
 struct ShapeValidation {
   ShapeError error = ShapeError::none;

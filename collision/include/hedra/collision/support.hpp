@@ -26,44 +26,29 @@
 // compares false everywhere and returns the start vertex: callers reject
 // non-finite directions before (GJK does).
 //
-// The crossover is measured (bench/collision_benchmark, BM_Support*; ns per
-// call, scan / climb): cold, from a random start, 41/85 at 32 vertices,
-// 87/103 at 64, 193/136 at 128; warm, starting from the previous answer with
-// the direction turned a few degrees, 53/14 at 32 and 86/14 at 64. GJK and
-// EPA always carry the previous support vertex as the start, so queries run
-// warm after their first support call. Whole queries decide between 32 and
-// 64 (callgrind instruction counts per query on the benchmark's 8-64 vertex
-// hull pairs): climbing from 32 costs 12 % fewer instructions on
-// penetrating pairs (GJK + EPA) and 24 % fewer on separated ones (GJK), so
-// the crossover is 32.
+// The crossover (32 vertices) is measured: docs/design.md, "Support
+// crossover".
 #pragma once
 
 #include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
 #include <hedra/collision/shapes.hpp>
+#include <hedra/collision/vector_math.hpp>
 #include <limits>
 
 namespace hedra::collision {
 
 inline constexpr std::size_t kHillClimbCrossover = 32;
 
-// d . x summed as Eigen's dot() sums a 3-vector, (d0 x0 + d1 x1) + d2 x2,
-// so the support loops below pick exactly the vertices they picked with
-// dot(); written out because Eigen's SSE2 code for one 3-vector (a packet
-// of two, a shuffle, a scalar third) costs about twice the instructions.
-inline double support_dot(const Eigen::Vector3d& d, const Eigen::Vector3d& x) {
-  return (d.x() * x.x() + d.y() * x.y()) + d.z() * x.z();
-}
-
 // Index of a vertex maximising d . vertex(i); the first such vertex.
 inline hull::Index polyhedron_support_scan(const ConvexPolyhedron& poly, const Eigen::Vector3d& d) {
   const Eigen::Vector3d* v = poly.vertices().data();
   const std::size_t n = poly.vertex_count();
   hull::Index best = 0;
-  double best_value = support_dot(d, v[0]);
+  double best_value = dot3(d, v[0]);
   for (std::size_t i = 1; i < n; ++i) {
-    const double value = support_dot(d, v[i]);
+    const double value = dot3(d, v[i]);
     if (value > best_value) {
       best_value = value;
       best = static_cast<hull::Index>(i);
@@ -78,13 +63,13 @@ inline hull::Index polyhedron_support_climb(const ConvexPolyhedron& poly, const 
   const std::size_t n = poly.vertex_count();
   const Eigen::Vector3d* v = poly.vertices().data();
   hull::Index current = start < n ? start : 0;
-  double current_value = support_dot(d, v[current]);
+  double current_value = dot3(d, v[current]);
   for (std::size_t step = 0; step < n; ++step) {
     hull::Index best = current;
     double best_value = current_value;
     const hull::Index* const end = poly.neighbors_end(current);
     for (const hull::Index* it = poly.neighbors_begin(current); it != end; ++it) {
-      const double value = support_dot(d, v[*it]);
+      const double value = dot3(d, v[*it]);
       if (value > best_value) {
         best_value = value;
         best = *it;
@@ -176,14 +161,6 @@ struct PolyhedronCore {
 };
 
 // ---- full shapes in their local frame (core + radius + margin) -----------
-
-// d / |d|, or zero when d is zero or not finite (the rounding then adds
-// nothing, which keeps the answer finite).
-inline Eigen::Vector3d safe_unit(const Eigen::Vector3d& d) {
-  const double n = d.norm();
-  if (!(n > 0.0) || !std::isfinite(n)) return Eigen::Vector3d::Zero();
-  return d / n;
-}
 
 inline Eigen::Vector3d support(const Sphere& s, const Eigen::Vector3d& d) {
   return (s.radius + s.margin) * safe_unit(d);

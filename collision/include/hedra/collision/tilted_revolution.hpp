@@ -1,68 +1,20 @@
-// Penetration of two cores of revolution at any tilt, certified, by branch
-// and bound over the directions.
+// Penetration of two cores of revolution (segment, cylinder, cone) at any
+// tilt, certified, by branch and bound over the directions.
 //
-// Why: nearly coaxial cylinders and cones defeat EPA (the depth is almost the
-// same over a circle of directions, and the polytope fills up long before its
-// lower bound rises), and the exact meridian reduction of revolution.hpp only
-// holds for parallel axes (within theta R_B of the truth at a tilt theta).
-// Both symmetries together make the problem two-dimensional and smooth
-// enough to certify:
-//
-//   * A core of revolution centred at the origin with unit axis k (segment,
-//     cylinder, cone) has a support function h(n) = f(k . n) of one variable
-//     c = k . n, its "profile": f = max(lo, hi), each branch of the form
-//     s c + rho sqrt(1 - c^2), concave on [-1, 1] (cylinder: +-h c + r sqrt;
-//     cone: h c for the apex, -h c + r sqrt for the base rim; segment: +-h c).
-//     The branches cross at the kink c_k (0 for a cylinder or a segment,
-//     r / sqrt(r^2 + 4 h^2) for a cone), where the support set is a segment.
-//   * D = A - B, A's axis a at the origin, B's axis b at t:
-//       h_D(n) = f_A(a . n) + f_B(-(b . n)) - t . n,
-//     and the signed distance is -min_{|n|=1} h_D(n) (the depth when > 0).
-//   * In the frame (a, e2, m), m perpendicular to a and b, e2 = m x a, write
-//     n = X a + Y e2 + sigma gamma m with P = (X, Y) in the unit disc and
-//     gamma = sqrt(1 - |P|^2); the sign sigma = sign(t . m) is the better one
-//     (h_D depends on it through -t . n only). Then a . n = X and
-//     b . n = c X + s Y (c = a . b, s = e2 . b) are linear in P: the kinks
-//     are straight lines, and
-//       F(P) = f_A(X) + f_B(-(c X + s Y)) - t1 X - t2 Y - tau gamma
-//     with t1 = t . a, t2 = t . e2, tau = |t . m| >= 0.
-//   * Lower bound of F over a square of P: split the square by the two kink
-//     lines into convex pieces; in each piece f_A and f_B are bounded below
-//     by the chords of their branches over the piece's range of the argument
-//     (every branch is concave and below f), which leaves a linear function
-//     minus tau gamma: convex, minimised exactly over the piece cut by the
-//     unit disc (the unconstrained minimiser, each edge by a closed form, the
-//     arc's lowest point). Chords are exact at the ends of their range, so
-//     the bound is exact on the kink lines, where the minimum lies, and off
-//     them its error falls as the square of the square's size.
-//   * The poles (n = +-a, +-b) are where the disc coordinates fail: a
-//     direction 1e-8 rad from an axis has X = 1 in double. A piece that
-//     reaches within 4e-15 of a pole is bounded instead in the pole's own
-//     angle phi: the pole's profile is at least each branch, s cos(phi) +
-//     rho sin(phi), and the rest of h_D (a support function) at least n . x
-//     for its support point x at the pole, so h_D >= H cos(phi) + kappa
-//     sin(phi), whose minimum over the cap is at an end (pole_cap_bound).
-//     At a cylinder's cap (a kink, kappa > 0) that is the pole's own value:
-//     minima at a pole (a small core deep inside a flat cylinder, found by
-//     fuzzing) are certified. Otherwise the bound is lowered by 1e-7 of the
-//     sizes (what the coordinates hide) and the minimum stays uncertified.
-//   * Upper bound: h_D at the lower bound's minimiser of each piece (every
-//     h_D(n) bounds min h_D from above), at the four poles, and at
-//     directions the caller knows (the parallel pair's normal, EPA's best).
-//   * Depth-first over a quadtree of [-1, 1]^2, children in order of their
-//     bound; a square is dropped once its bound is within the tolerance of
-//     the best upper bound; the certified lower bound is the smallest bound
-//     of the squares dropped. At most `max_squares` squares and a fixed
-//     stack (no heap): hitting the cap reports max_iterations with the
-//     bracket so far.
-//
-// Witness points: the support sets of A along n and of B along -n (a point,
-// a segment on a kink, a disc at a pole), points p_a, p_b in them with
-// p_a - p_b closest to depth * n by alternating projections.
-//
-// The tolerance scales with the pair (relative and absolute as in EPA); the
-// rounding of the bound's arithmetic, a few eps of the size of the pair and
-// of t, is subtracted from it.
+// Nearly coaxial cylinders and cones defeat EPA (the depth is almost the
+// same over a circle of directions) and the exact reduction of
+// revolution.hpp holds only for parallel axes. Each core's support function
+// depends on one variable, the cosine to its axis; in disc coordinates P of
+// the unit sphere the kinks of both profiles are straight lines, and over a
+// square of P cut by those lines a chord bound of each concave branch leaves
+// a convex function minimised in closed form: a certified lower bound,
+// exact on the kink lines. Upper bounds are support values h_D(n) at the
+// pieces' minimisers, the poles and the caller's hints. Depth first over a
+// quadtree of [-1, 1]^2 with a fixed stack and a cap on squares (then
+// max_iterations with the bracket so far). The poles, where disc coordinates
+// cannot resolve directions, get their own cap bounds. Witnesses: points of
+// the support sets (point, segment, disc) by alternating projections.
+// Derivations: docs/design.md, "Tilted cores of revolution".
 #pragma once
 
 #include <Eigen/Core>
@@ -432,18 +384,13 @@ struct TiltedRevolutionSettings {
   int max_squares = 4096;  // squares bounded, the cap reported as max_iterations
 };
 
-// The signed depth (min over unit n of h_D(n), > 0 when the cores overlap)
-// of two cores of revolution (segment, cylinder or cone; B placed by
-// `relative` in A's frame) whose axes are not parallel, certified within
-// max(relative_tolerance depth, absolute_tolerance scale) of EpaSettings;
-// false when the pair is not of that kind. `hints`: directions whose support
-// values start the upper bound. Conventions of epa_penetration.
+namespace tilted_detail {
+
+// Phase 1: the pair in the disc coordinates described at the top of this
+// file, with its pole caps (pole_cap_bound); false when the pair is not two
+// cores of revolution, one curved, with axes that are not parallel.
 template <class CA, class CB>
-bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const RelativePose& relative, double scale,
-                                   const Eigen::Vector3d* hints, int hint_count, const EpaSettings& settings,
-                                   EpaResult& out, const TiltedRevolutionSettings& tilted = {}) {
-  using namespace tilted_detail;
-  Problem pr;
+bool make_problem(const CA& core_a, const CB& core_b, const RelativePose& relative, double scale, Problem& pr) {
   pr.fa = profile_of(core_a);
   pr.fb = profile_of(core_b);
   if (!pr.fa.valid || !pr.fb.valid || !(pr.fa.curved || pr.fb.curved)) return false;
@@ -472,52 +419,55 @@ bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const Rel
   const double eps = std::numeric_limits<double>::epsilon();
   pr.rounding = 64.0 * eps * (2.0 * scale + pr.t.norm());
   pr.pole_allowance = 1e-7 * (pr.fa.radius + pr.fb.radius + pr.fa.half_length + pr.fb.half_length + pr.t.norm());
-  // The pole caps (pole_cap_bound): for A's poles p = +-a the rest is -B
-  // placed at t, its support point at p being -(R s_B(R^T (-p)) + t); for
-  // B's poles p = -+b (w = +-1) it is A - t, with s_A(p) - t.
-  {
-    const Eigen::Matrix3d& R = relative.rotation;
-    const std::array<Eigen::Vector3d, 4> poles = {pr.a, Eigen::Vector3d(-pr.a), Eigen::Vector3d(-pr.b), pr.b};
-    for (int which = 0; which < 4; ++which) {
-      const Eigen::Vector3d& p = poles[which];
-      const bool of_a = which < 2;
-      const Eigen::Vector3d x = of_a ? Eigen::Vector3d(-(R * core_b.support(R.transpose() * (-p)) + pr.t))
-                                     : Eigen::Vector3d(core_a.support(p) - pr.t);
-      const double along = p.dot(x), across = (x - along * p).norm();
-      const Profile& f = of_a ? pr.fa : pr.fb;
-      const double sign = which % 2 == 0 ? 1.0 : -1.0;  // the profile's coordinate at the pole
-      const Branch* branch[2] = {&f.lo, &f.hi};
-      for (int k = 0; k < 2; ++k) {
-        pr.cap_h[which][k] = sign * branch[k]->slope + along;
-        pr.cap_kappa[which][k] = branch[k]->radius - across;
-      }
+  // The pole caps: for A's poles p = +-a the rest is -B placed at t, its
+  // support point at p being -(R s_B(R^T (-p)) + t); for B's poles p = -+b
+  // (w = +-1) it is A - t, with s_A(p) - t.
+  const Eigen::Matrix3d& R = relative.rotation;
+  const std::array<Eigen::Vector3d, 4> poles = {pr.a, Eigen::Vector3d(-pr.a), Eigen::Vector3d(-pr.b), pr.b};
+  for (int which = 0; which < 4; ++which) {
+    const Eigen::Vector3d& p = poles[which];
+    const bool of_a = which < 2;
+    const Eigen::Vector3d x = of_a ? Eigen::Vector3d(-(R * core_b.support(R.transpose() * (-p)) + pr.t))
+                                   : Eigen::Vector3d(core_a.support(p) - pr.t);
+    const double along = p.dot(x), across = (x - along * p).norm();
+    const Profile& f = of_a ? pr.fa : pr.fb;
+    const double sign = which % 2 == 0 ? 1.0 : -1.0;  // the profile's coordinate at the pole
+    const Branch* branch[2] = {&f.lo, &f.hi};
+    for (int k = 0; k < 2; ++k) {
+      pr.cap_h[which][k] = sign * branch[k]->slope + along;
+      pr.cap_kappa[which][k] = branch[k]->radius - across;
     }
   }
+  return true;
+}
 
-  // Upper bound from the caller's directions.
+// The search's state: the best upper bound (a support value h_D(n)), its
+// direction, and the tolerance it implies.
+struct Search {
+  const Problem& pr;
+  const EpaSettings& settings;
+  double scale;
+  Eigen::Vector2d kink_b_normal;  // w = -(b . n) = kink_b_normal . P
   double upper = std::numeric_limits<double>::infinity();
   Eigen::Vector3d best_n = Eigen::Vector3d::UnitX();
-  const auto offer = [&](const Eigen::Vector3d& n) {
+
+  Search(const Problem& problem, const EpaSettings& s, double sc)
+      : pr(problem), settings(s), scale(sc), kink_b_normal(-problem.c, -problem.s) {}
+
+  void offer(const Eigen::Vector3d& n) {
     if (!n.allFinite()) return;
     const double v = pr.h(n);
     if (v < upper) {
       upper = v;
       best_n = n;
     }
-  };
-  for (int i = 0; i < hint_count; ++i) {
-    const double len = hints[i].norm();
-    if (len > 0.0 && std::isfinite(len)) offer(hints[i] / len);
   }
-  // The poles themselves (the cap bounds certify minima there).
-  for (const Eigen::Vector3d& p : {pr.a, Eigen::Vector3d(-pr.a), pr.b, Eigen::Vector3d(-pr.b)}) offer(p);
-  const auto tolerance = [&] {
+  double tolerance() const {
     return std::max(settings.relative_tolerance * std::abs(upper), settings.absolute_tolerance * scale);
-  };
-
-  // A square's bound: the smallest over its pieces (cut by the two kink lines).
-  const Eigen::Vector2d kink_b_normal(-pr.c, -pr.s);  // w = -(b . n) = kink_b_normal . P
-  const auto square_bound = [&](const Eigen::Vector2d& lo_corner, double size) {
+  }
+  // A square's bound: the smallest over its pieces (cut by the two kink
+  // lines); each piece's minimiser is offered as an upper bound.
+  double square_bound(const Eigen::Vector2d& lo_corner, double size) {
     Polygon sq;
     sq.n = 4;
     sq.p[0] = lo_corner;
@@ -535,8 +485,21 @@ bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const Rel
       }
     }
     return bound;
-  };
+  }
+};
 
+// What the branch and bound certified.
+struct Bracket {
+  double certified = std::numeric_limits<double>::infinity();  // the smallest bound of the squares dropped
+  int squares = 0;                                             // squares bounded
+  bool capped = false;                                         // max_squares reached
+};
+
+// Phase 2: depth first over a quadtree of [-1, 1]^2, children in stack
+// order; a square is dropped once its bound is within the tolerance of the
+// best upper bound, or at the cap (then its parent's bound is what is
+// certified for it).
+inline Bracket branch_and_bound(Search& search, int max_squares) {
   struct Square {
     Eigen::Vector2d corner;
     double size;
@@ -545,38 +508,38 @@ bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const Rel
   constexpr int kMaxDepth = 64;
   std::array<Square, 4 * kMaxDepth + 4> stack;
   int top = 0;
-  double certified = std::numeric_limits<double>::infinity();
-  int squares = 0;
-  bool capped = false;
+  Bracket out;
   // The four quadrants of [-1, 1]^2, bounded first: every square on the
   // stack then carries a finite bound (its parent's), which is what the cap
   // certifies for the squares it leaves unexplored.
   for (int i = 0; i < 4; ++i) {
     const Eigen::Vector2d corner(i % 2 == 0 ? -1.0 : 0.0, i / 2 == 0 ? -1.0 : 0.0);
-    ++squares;
-    stack[top++] = {corner, 1.0, square_bound(corner, 1.0)};
+    ++out.squares;
+    stack[top++] = {corner, 1.0, search.square_bound(corner, 1.0)};
   }
+  const double eps = std::numeric_limits<double>::epsilon();
   while (top > 0) {
     const Square sq = stack[--top];
-    if (sq.bound >= upper - tolerance()) {
-      certified = std::min(certified, sq.bound);
+    if (sq.bound >= search.upper - search.tolerance()) {
+      out.certified = std::min(out.certified, sq.bound);
       continue;
     }
-    if (squares >= tilted.max_squares) {
-      capped = true;
-      certified = std::min(certified, sq.bound);
+    if (out.squares >= max_squares) {
+      out.capped = true;
+      out.certified = std::min(out.certified, sq.bound);
       continue;
     }
     // A child bounded, or a quadrant (bounded already, at size 1).
     double bound = sq.bound;
     if (sq.size < 1.0) {
-      ++squares;
-      bound = square_bound(sq.corner, sq.size);
+      ++out.squares;
+      bound = search.square_bound(sq.corner, sq.size);
     }
     if (bound == std::numeric_limits<double>::infinity()) continue;         // outside the disc
     if (!(bound >= -std::numeric_limits<double>::max())) bound = sq.bound;  // NaN: keep the parent's
-    if (bound >= upper - tolerance() || top + 4 > static_cast<int>(stack.size()) || !(sq.size > 4.0 * eps)) {
-      certified = std::min(certified, bound);
+    if (bound >= search.upper - search.tolerance() || top + 4 > static_cast<int>(stack.size()) ||
+        !(sq.size > 4.0 * eps)) {
+      out.certified = std::min(out.certified, bound);
       continue;
     }
     // The four children carry this square's bound until they are bounded.
@@ -586,51 +549,54 @@ bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const Rel
       child[i] = {sq.corner + Eigen::Vector2d(i % 2 == 0 ? 0.0 : half, i / 2 == 0 ? 0.0 : half), half, bound};
     for (const Square& c : child) stack[top++] = c;
   }
-  if (!std::isfinite(upper) || std::isnan(certified)) return false;
-  // The answer snapped onto a kink line (or both) when that costs less than
-  // a quarter of the tolerance: the minimum usually lies on one, where the
-  // support sets are segments and the witnesses can be exact.
-  {
-    const Eigen::Vector2d P(pr.a.dot(best_n), pr.e2.dot(best_n));
-    const Eigen::Vector2d nb = kink_b_normal / kink_b_normal.norm();
-    const double kb = pr.fb.kink / kink_b_normal.norm();
-    const Eigen::Vector2d on_a(pr.fa.kink, P.y());
-    const Eigen::Vector2d on_b = P - (nb.dot(P) - kb) * nb;
-    Eigen::Vector2d on_both = on_a;
-    const double det = nb.y();  // X = ka and nb . P = kb
-    if (std::abs(det) > 0.0) on_both = Eigen::Vector2d(pr.fa.kink, (kb - nb.x() * pr.fa.kink) / det);
-    const double allowed = upper + 0.25 * tolerance();
-    double best_value = std::numeric_limits<double>::infinity();
-    Eigen::Vector3d snapped = best_n;
-    for (const Eigen::Vector2d& Q : {on_both, on_a, on_b}) {
-      if (!(Q.squaredNorm() <= 1.0)) continue;
-      const Eigen::Vector3d n = pr.direction(Q);
-      const double v = pr.h(n);
-      if (v <= allowed && v < best_value) {
-        best_value = v;
-        snapped = n;
-        break;  // the first acceptable in that order: the most constrained
-      }
-    }
-    if (best_value <= allowed) {
-      upper = best_value;
-      best_n = snapped;
+  return out;
+}
+
+// Phase 3: the answer snapped onto a kink line (or both) when that costs
+// less than a quarter of the tolerance: the minimum usually lies on one,
+// where the support sets are segments and the witnesses can be exact.
+inline void snap_to_kinks(Search& search) {
+  const Problem& pr = search.pr;
+  const Eigen::Vector2d P(pr.a.dot(search.best_n), pr.e2.dot(search.best_n));
+  const Eigen::Vector2d nb = search.kink_b_normal / search.kink_b_normal.norm();
+  const double kb = pr.fb.kink / search.kink_b_normal.norm();
+  const Eigen::Vector2d on_a(pr.fa.kink, P.y());
+  const Eigen::Vector2d on_b = P - (nb.dot(P) - kb) * nb;
+  Eigen::Vector2d on_both = on_a;
+  const double det = nb.y();  // X = ka and nb . P = kb
+  if (std::abs(det) > 0.0) on_both = Eigen::Vector2d(pr.fa.kink, (kb - nb.x() * pr.fa.kink) / det);
+  const double allowed = search.upper + 0.25 * search.tolerance();
+  double best_value = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d snapped = search.best_n;
+  for (const Eigen::Vector2d& Q : {on_both, on_a, on_b}) {
+    if (!(Q.squaredNorm() <= 1.0)) continue;
+    const Eigen::Vector3d n = pr.direction(Q);
+    const double v = pr.h(n);
+    if (v <= allowed && v < best_value) {
+      best_value = v;
+      snapped = n;
+      break;  // the first acceptable in that order: the most constrained
     }
   }
-  if (!std::isfinite(certified)) certified = upper;
-  EpaResult r;
-  r.depth = upper;
-  r.normal = best_n;
-  // Witnesses: p_a in A's support set along n, p_b in B's along -n, with
-  // p_a - p_b as close to depth * n as alternating projections get (exact
-  // for points and for segments that overlap; the caller splits the rest).
-  // A direction within `slack` of a kink (in c) or of an axis sees the
-  // whole segment or disc: its support value differs by at most
-  // 2 scale slack, a quarter of the tolerance.
-  const double slack = 0.125 * tolerance() / scale;
+  if (best_value <= allowed) {
+    search.upper = best_value;
+    search.best_n = snapped;
+  }
+}
+
+// Phase 4, witnesses: p_a in A's support set along n, p_b in B's along -n,
+// with p_a - p_b as close to depth * n as alternating projections get
+// (exact for points and for segments that overlap; the caller splits the
+// rest). A direction within `slack` of a kink (in c) or of an axis sees
+// the whole segment or disc: its support value differs by at most
+// 2 scale slack, a quarter of the tolerance.
+inline void set_witnesses(const Search& search, const RelativePose& relative, EpaResult& r) {
+  const Problem& pr = search.pr;
+  const double slack = 0.125 * search.tolerance() / search.scale;
+  const Eigen::Vector3d& best_n = search.best_n;
   const Feature fa = feature_of(pr.fa, best_n, slack, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero());
   const Feature fb = feature_of(pr.fb, -(relative.rotation.transpose() * best_n), slack, relative.rotation, pr.t);
-  const Eigen::Vector3d x = upper * best_n;
+  const Eigen::Vector3d x = search.upper * best_n;
   Eigen::Vector3d pa, pb;
   if (fa.disc == 0.0 && fb.disc == 0.0) {
     closest_on_segments(fa.p0, fa.p1, fb.p0 + x, fb.p1 + x, pa, pb);
@@ -645,11 +611,44 @@ bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const Rel
   }
   r.point_a = pa;
   r.point_b = pb;
-  r.error_bound = std::max(upper - std::min(certified, upper), 0.0);
-  r.iterations = squares;
+}
+
+}  // namespace tilted_detail
+
+// The signed depth (min over unit n of h_D(n), > 0 when the cores overlap)
+// of two cores of revolution (segment, cylinder or cone; B placed by
+// `relative` in A's frame) whose axes are not parallel, certified within
+// max(relative_tolerance depth, absolute_tolerance scale) of EpaSettings;
+// false when the pair is not of that kind. `hints`: directions whose support
+// values start the upper bound. Conventions of epa_penetration.
+template <class CA, class CB>
+bool tilted_revolution_penetration(const CA& core_a, const CB& core_b, const RelativePose& relative, double scale,
+                                   const Eigen::Vector3d* hints, int hint_count, const EpaSettings& settings,
+                                   EpaResult& out, const TiltedRevolutionSettings& tilted = {}) {
+  using namespace tilted_detail;
+  Problem pr;
+  if (!make_problem(core_a, core_b, relative, scale, pr)) return false;
+  Search search(pr, settings, scale);
+  // The upper bound starts from the caller's directions and the poles
+  // themselves (the cap bounds certify minima there).
+  for (int i = 0; i < hint_count; ++i) {
+    const double len = hints[i].norm();
+    if (len > 0.0 && std::isfinite(len)) search.offer(hints[i] / len);
+  }
+  for (const Eigen::Vector3d& p : {pr.a, Eigen::Vector3d(-pr.a), pr.b, Eigen::Vector3d(-pr.b)}) search.offer(p);
+  const Bracket bracket = branch_and_bound(search, tilted.max_squares);
+  if (!std::isfinite(search.upper) || std::isnan(bracket.certified)) return false;
+  snap_to_kinks(search);
+  const double certified = std::isfinite(bracket.certified) ? bracket.certified : search.upper;
+  EpaResult r;
+  r.depth = search.upper;
+  r.normal = search.best_n;
+  set_witnesses(search, relative, r);
+  r.error_bound = std::max(search.upper - std::min(certified, search.upper), 0.0);
+  r.iterations = bracket.squares;
   r.dimension = 3;
-  r.status = capped ? EpaStatus::max_iterations : EpaStatus::ok;
-  if (!capped && r.error_bound > tolerance()) r.status = EpaStatus::stalled;
+  r.status = bracket.capped ? EpaStatus::max_iterations : EpaStatus::ok;
+  if (!bracket.capped && r.error_bound > search.tolerance()) r.status = EpaStatus::stalled;
   out = r;
   return true;
 }
