@@ -111,6 +111,12 @@ std::optional<bench::FamilyRun> scene_family(const std::string& path, std::strin
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < scene.queries.size(); ++i) {
     const QuerySpec& q = scene.queries[i];
+    if (is_continuous(q.type)) {  // a sweep, not a pair at rest: `hedra bench --continuous` times those
+      ++run.dropped;
+      run.notes.push_back("query " + std::to_string(i) + " (" + to_string(q.type) +
+                          "): continuous queries are benchmarked by --continuous, not from a scene");
+      continue;
+    }
     bench::BenchCase c;
     c.family = run.name;
     c.label = scene.bodies[q.a].name + " / " + scene.bodies[q.b].name;
