@@ -32,13 +32,13 @@ CastResult shape_cast_typed(const SA& a, const Pose& pose_a, const Vec& translat
   Vec axis = relative.translation;
   if (cache && cache->valid) {
     axis = -cache->axis;
-    cast_detail::load_hint(core_a, cache->hint_a);
-    cast_detail::load_hint(core_b, cache->hint_b);
+    load_hint(core_a, cache->hint_a);
+    load_hint(core_b, cache->hint_b);
   }
   if (!(axis.squaredNorm() > 0.0)) axis = -u;
   const GjkRaycastResult g =
       gjk_raycast(core_a, placed_b, radius_a + radius_b + target, u, 1.0, axis, tolerance, settings.max_iterations);
-  cast_detail::store_cache(cache, -g.v, core_a, core_b);
+  store_cache(cache, -g.v, core_a, core_b);
 
   CastResult out;
   out.status = g.status;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/cast_result.hpp>
+#include <hedra/collision/minkowski.hpp>
 #include <hedra/collision/query.hpp>
 #include <limits>
 
@@ -19,28 +20,6 @@ inline bool finite_within(const Eigen::Vector3d& x) {
 inline bool target_valid(double target_distance, double linear_slop) {
   return target_distance >= 0.0 && std::isfinite(target_distance) && linear_slop >= 0.0 && std::isfinite(linear_slop) &&
          target_distance + linear_slop <= max_shape_size;
-}
-
-// Polyhedron support hints travel through the caller's GjkCache.
-template <class Core>
-void load_hint(Core&, hull::Index) {}
-inline void load_hint(PolyhedronCore& core, hull::Index hint) { core.hint = hint; }
-template <class Core>
-hull::Index hint_of(const Core&) {
-  return 0;
-}
-inline hull::Index hint_of(const PolyhedronCore& core) { return core.hint; }
-
-// `v`: point_a - point_b in A's core frame (GjkCache's convention).
-template <class CoreA, class CoreB>
-void store_cache(GjkCache* cache, const Eigen::Vector3d& v, const CoreA& a, const CoreB& b) {
-  if (!cache) return;
-  if (v.allFinite() && v.squaredNorm() > 0.0) {
-    cache->axis = v;
-    cache->valid = true;
-  }
-  cache->hint_a = hint_of(a);
-  cache->hint_b = hint_of(b);
 }
 
 // A pair within the target at t = 0: penetration()'s signed answer.

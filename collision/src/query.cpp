@@ -50,15 +50,6 @@ Status to_status(GjkStatus s) {
   return Status::degenerate;
 }
 
-template <class Core>
-void load_hint(Core&, hull::Index) {}
-void load_hint(PolyhedronCore& core, hull::Index hint) { core.hint = hint; }
-template <class Core>
-hull::Index hint_of(const Core&) {
-  return 0;
-}
-hull::Index hint_of(const PolyhedronCore& core) { return core.hint; }
-
 // Witness points with point_b - point_a = distance * n exactly (up to the
 // final rounding): the midpoint of the two witnesses, moved apart along n.
 // GJK's barycentric witnesses and its projected v can disagree by rounding
@@ -117,15 +108,7 @@ struct PairSetup {
     }
   }
 
-  void store(GjkCache* cache, const GjkResult& g) const {
-    if (!cache) return;
-    if (g.v.allFinite() && g.v.squaredNorm() > 0.0) {
-      cache->axis = g.v;
-      cache->valid = true;
-    }
-    cache->hint_a = hint_of(core_a);
-    cache->hint_b = hint_of(core_b);
-  }
+  void store(GjkCache* cache, const GjkResult& g) const { store_cache(cache, g.v, core_a, core_b); }
 };
 
 template <class SA, class SB>

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <hedra/collision/gjk.hpp>
 #include <hedra/collision/time_of_impact.hpp>
 #include <limits>
 
@@ -126,8 +127,8 @@ CastResult toi_typed(const SA& a, const Sweep& sweep_a, const SB& b, const Sweep
   Vec axis = Vec::Zero();
   if (cache && cache->valid) {
     axis = cache->axis;
-    cast_detail::load_hint(p.core_a, cache->hint_a);
-    cast_detail::load_hint(p.core_b, cache->hint_b);
+    load_hint(p.core_a, cache->hint_a);
+    load_hint(p.core_b, cache->hint_b);
   }
   CastResult out;
   out.status = CastStatus::max_iterations;
@@ -145,7 +146,7 @@ CastResult toi_typed(const SA& a, const Sweep& sweep_a, const SB& b, const Sweep
     if (s.n.squaredNorm() > 0.0) last_n = s.n;
     if (s.upper <= target + tolerance) {
       if (t == 0.0) {
-        cast_detail::store_cache(cache, axis, p.core_a, p.core_b);
+        store_cache(cache, axis, p.core_a, p.core_b);
         return cast_detail::initially_overlapping(shape_a, sweep_a.start, shape_b, sweep_b.start);
       }
       cast_detail::set_hit(out, t, s.upper + p.radius_a + p.radius_b, last_n, s.gjk.point_a, s.gjk.point_b, p.radius_a,
@@ -168,7 +169,7 @@ CastResult toi_typed(const SA& a, const Sweep& sweep_a, const SB& b, const Sweep
     }
     t += gap / closing;
   }
-  cast_detail::store_cache(cache, axis, p.core_a, p.core_b);
+  store_cache(cache, axis, p.core_a, p.core_b);
   out.fraction = t;
   return out;
 }

@@ -26,6 +26,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <hedra/collision/pose.hpp>
+#include <hedra/collision/settings.hpp>
 #include <hedra/collision/support.hpp>
 #include <limits>
 
@@ -89,5 +90,28 @@ Eigen::Vector3d core_offset(const S&) {
   return Eigen::Vector3d::Zero();
 }
 inline Eigen::Vector3d core_offset(const Polyhedron& s) { return s.hull->offset(); }
+
+// Warm starts through the caller's GjkCache: the last axis v (point_a -
+// point_b in A's core frame) and the polyhedron cores' support hints (other
+// cores have none).
+template <class Core>
+void load_hint(Core&, hull::Index) {}
+inline void load_hint(PolyhedronCore& core, hull::Index hint) { core.hint = hint; }
+template <class Core>
+hull::Index hint_of(const Core&) {
+  return 0;
+}
+inline hull::Index hint_of(const PolyhedronCore& core) { return core.hint; }
+
+template <class CoreA, class CoreB>
+void store_cache(GjkCache* cache, const Eigen::Vector3d& v, const CoreA& a, const CoreB& b) {
+  if (!cache) return;
+  if (v.allFinite() && v.squaredNorm() > 0.0) {
+    cache->axis = v;
+    cache->valid = true;
+  }
+  cache->hint_a = hint_of(a);
+  cache->hint_b = hint_of(b);
+}
 
 }  // namespace hedra::collision
