@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/cast_result.hpp>
+#include <hedra/collision/gjk.hpp>
+#include <hedra/collision/minkowski.hpp>
 #include <hedra/collision/query.hpp>
 #include <limits>
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/gjk_raycast.hpp>
+#include <hedra/collision/minkowski.hpp>
 #include <hedra/collision/raycast.hpp>
 #include <limits>
 
