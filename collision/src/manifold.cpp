@@ -138,15 +138,16 @@ struct WorldFrame {
   Vec direction(const Vec& d) const { return pose.rotation * d; }
 };
 
-// Shifts the cores' candidates by the radii, filters by the contact distance,
+// Shifts the cores' candidates by the radii, keeps those separated by at
+// most max_separation (the contact distance and the touching band),
 // reduces to four and writes the world result.
-void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b, double contact_distance,
+void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b, double max_separation,
           const WorldFrame& world, ContactResult& out) {
   std::size_t kept = 0;
   for (std::size_t i = 0; i < c.size; ++i) {
     Candidate x = c[i];
     x.separation -= radius_a + radius_b;
-    if (!(x.separation <= contact_distance)) continue;
+    if (!(x.separation <= max_separation)) continue;
     x.on_a += radius_a * normal;
     x.on_b -= radius_b * normal;
     c[kept++] = x;
@@ -369,6 +370,16 @@ double scale_of(const SatPolytope& a, const SatPolytope& b) { return std::max(a.
 // price: kept points may lie that far outside the reference face.
 double geometric_tolerance(double scale) { return 1e-6 * scale; }
 
+// The largest separation that still yields points: the contact distance
+// plus the touching band of penetration() (a fraction of the pair's size).
+// Touching surfaces are 0 apart only up to rounding: SAT's separation, a
+// clipped point's, or penetration()'s distance of a pair placed exactly
+// touching comes out +-1e-16 of the size, and a filter against the bare
+// contact distance (0 by default) dropped every point of a resting body.
+double keep_below(const ContactSettings& settings, double scale) {
+  return settings.contact_distance + settings.penetration.touching_band * scale;
+}
+
 void flip(ContactResult& r) {
   r.normal = -r.normal;
   std::swap(r.point_a, r.point_b);
@@ -390,7 +401,8 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   const double ra = core_radius(a), rb = core_radius(b);
   const WorldFrame world{pose_a, core_offset(a)};
   const double scale = scale_of(pa, pb) + std::max(ra, rb);
-  const double core_contact = settings.contact_distance + ra + rb;
+  const double keep = keep_below(settings, scale);
+  const double core_contact = keep + ra + rb;
   SatSettings sat;
   sat.parallel_tolerance = settings.parallel_tolerance;
   sat.early_out = core_contact;
@@ -473,7 +485,7 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
     single.stats = out.stats;
     return single;
   }
-  emit(candidates, normal, ra, rb, settings.contact_distance, world, out);
+  emit(candidates, normal, ra, rb, keep, world, out);
   if (out.count == 0) {
     // Nothing within the contact distance after clipping (a gap along the
     // chosen axis beyond it): report the axis.
@@ -610,7 +622,8 @@ ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, c
   out.point_a = p.point_a;
   out.point_b = p.point_b;
   out.intersecting = p.distance <= 0.0;
-  if (p.distance <= settings.contact_distance) {
+  const double scale = std::max(bounding_radius(a), bounding_radius(b));
+  if (p.distance <= keep_below(settings, scale)) {
     out.count = 1;
     out.points[0].point = 0.5 * (p.point_a + p.point_b);
     out.points[0].depth = -p.distance;
@@ -679,7 +692,7 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
     }
   }
   out.stats.clipped_points = static_cast<int>(candidates.size);
-  emit(candidates, nf, ra, rb, settings.contact_distance, world, out);
+  emit(candidates, nf, ra, rb, keep_below(settings, scale + std::max(ra, rb)), world, out);
   if (out.count == 0) return first;
   return out;
 }

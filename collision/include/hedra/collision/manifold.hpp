@@ -12,7 +12,8 @@
 //       other shape's support vertex (its ring of faces). The incident
 //       polygon is clipped by the side planes of the reference face's edges
 //       (hull::clip_polygon, no allocation); points whose separation from
-//       the reference plane is <= the contact distance are kept, and
+//       the reference plane is <= the contact distance (plus the touching
+//       band, below) are kept, and
 //       reduced to four: the deepest, the one farthest from it, then the
 //       largest positive and negative signed triangle areas with those two
 //       (the quadrilateral of largest area these choices can reach);
@@ -119,6 +120,9 @@ inline constexpr int kMaxContactPoints = 4;
 struct ContactSettings {
   // Speculative margin (world length): pairs closer than this return their
   // points with negative depth; 0 reports touching and overlapping pairs only.
+  // Touching counts up to penetration.touching_band of the pair's size
+  // (1e-9): surfaces placed exactly touching are 0 apart only up to
+  // rounding, and their points are kept (depth ~ 0, either sign).
   double contact_distance = 0.0;
   // Bias towards face contacts (see the top of the file): relative to the
   // incumbent separation's magnitude, absolute as a fraction of the pair's size.
