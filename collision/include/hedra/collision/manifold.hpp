@@ -40,7 +40,15 @@
 //     clipped like a capsule's. Otherwise one point.
 //   * every other pair (spheres, curved against curved, point/segment/flat
 //     hulls): one point from penetration().
-// Margins (rounded shapes): the core's manifold shifted by the radii.
+// Margins (rounded shapes): every point's depth is the gap of the rounded
+// surfaces on its line along the normal (the reference side its radius out
+// of the face; the incident side where the line leaves the incident core
+// grown by its radius: r / cos(tilt) off a tilted face). Cores apart: SAT
+// only bounds their distance, so the manifold follows GJK's normal of the
+// cores (a face contact when it is a face normal of A or B within 1e-6 rad,
+// else penetration()'s point). A face contact whose kept points are
+// shallower than its axis by more than the bias (the deepest incident
+// vertex clipped away) is penetration()'s point too.
 //
 // Points. Each ContactPoint holds the midpoint between the two surfaces and
 // the depth along the normal: the point on A is point + (depth / 2) normal,
