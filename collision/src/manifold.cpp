@@ -850,14 +850,21 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
     // A capsule is round about its segment: each point's exit along -nf
     // from the segment (r / sin of the tilt on the side, less near an end),
     // not the radius, unless the segment lies along the face.
+    // A line through the segment (a capsule standing on the face) leaves it
+    // at the lower end's surface for both ends: one point, not two.
     const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
+    std::size_t kept = 0;
     for (std::size_t i = 0; i < candidates.size; ++i) {
-      Candidate& x = candidates[i];
+      Candidate x = candidates[i];
       const double t = std::max(segment_exit(x.on_b, -nf, s0, s1, rb), segment_exit(x.on_b, -nf, s1, s0, rb));
       x.on_a += ra * nf;
       x.on_b -= t * nf;
       x.separation -= ra + t;
+      bool repeated = false;
+      for (std::size_t k = 0; k < kept; ++k) repeated = repeated || (candidates[k].on_b - x.on_b).norm() <= tol;
+      if (!repeated) candidates[kept++] = x;
     }
+    candidates.size = kept;
     emit(candidates, nf, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), world, out);
   } else {
     emit(candidates, nf, ra, rb, keep_below(settings, scale + std::max(ra, rb)), world, out);

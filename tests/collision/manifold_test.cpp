@@ -294,6 +294,11 @@ TEST(Manifold, TiltedCapsulePointsLieOnTheCapsule) {
   // The upper end: 0.06 - sin(tilt) deep at the segment, the side r / cos(tilt) below it.
   const double upper = std::min(r.points[0].depth, r.points[1].depth);
   EXPECT_NEAR(upper, 0.06 - std::sin(tilt) - 0.2 + 0.2 / std::cos(tilt), 1e-12);
+  // Standing: the line through the segment leaves the capsule at its bottom
+  // for both ends, one point.
+  const ContactResult standing = contact(box, Pose::identity(), capsule, Pose::from_translation({0.1, 0.0, 1.19}));
+  ASSERT_EQ(standing.count, 1);
+  EXPECT_NEAR(standing.points[0].depth, 0.01, 1e-12);
 }
 
 TEST(Manifold, RandomHullPairsMatchTheExactDepthAndLieOnBothSurfaces) {
