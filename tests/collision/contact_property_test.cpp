@@ -1,6 +1,7 @@
-// Property test of contact() over seeded pair families (random hulls of 8 to
-// 64 vertices, boxes, rounded boxes and hulls with margins of 2 % to 10 % of
-// the size, capsules and cylinders against polytopes), each pair penetrating
+// Property test of contact() over twelve seeded pair families (random hulls
+// of 8 to 64 vertices, boxes, rounded boxes and hulls with margins of 2 % to
+// 10 % of the size, capsules and cylinders, sharp and rounded, against
+// polytopes; 150 poses each), each pair penetrating
 // or brought to touching (B moved along penetration()'s normal by its
 // distance). For every pair:
 //   * status ok and at least one point;
@@ -101,11 +102,27 @@ std::vector<Pair> make_pairs(int per_family) {
     std::uniform_real_distribution<double> u(0.2, 0.8);
     return Cylinder{u(r), u(r), 0.0};
   };
+  const Maker rounded_capsule = [](std::mt19937_64& r, double m) -> Shape {
+    std::uniform_real_distribution<double> u(0.2, 0.8);
+    return Capsule{u(r), 0.5 * u(r), m};
+  };
+  const Maker rounded_cylinder = [](std::mt19937_64& r, double m) -> Shape {
+    std::uniform_real_distribution<double> u(0.2, 0.8);
+    return Cylinder{u(r), u(r), m};
+  };
   const Family families[] = {
-      {"hulls", random_hull, random_hull, false},        {"boxes", random_box, random_box, false},
-      {"rounded_hulls", random_hull, random_hull, true}, {"rounded_boxes", random_box, random_box, true},
-      {"box_hull", random_box, random_hull, false},      {"hull_capsule", random_hull, capsule, false},
-      {"box_capsule", random_box, capsule, false},       {"box_cylinder", random_box, cylinder, false},
+      {"hulls", random_hull, random_hull, false},
+      {"boxes", random_box, random_box, false},
+      {"rounded_hulls", random_hull, random_hull, true},
+      {"rounded_boxes", random_box, random_box, true},
+      {"box_hull", random_box, random_hull, false},
+      {"hull_capsule", random_hull, capsule, false},
+      {"box_capsule", random_box, capsule, false},
+      {"box_cylinder", random_box, cylinder, false},
+      {"rounded_box_hull", random_box, random_hull, true},
+      {"rounded_hull_capsule", random_hull, rounded_capsule, true},
+      {"rounded_box_cylinder", random_box, rounded_cylinder, true},
+      {"hull_cylinder", random_hull, cylinder, false},
   };
   std::vector<Pair> pairs;
   for (const Family& f : families)
