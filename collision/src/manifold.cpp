@@ -138,15 +138,16 @@ struct WorldFrame {
   Vec direction(const Vec& d) const { return pose.rotation * d; }
 };
 
-// Shifts the cores' candidates by the radii, filters by the contact distance,
+// Shifts the cores' candidates by the radii, keeps those separated by at
+// most max_separation (the contact distance and the touching band),
 // reduces to four and writes the world result.
-void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b, double contact_distance,
+void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b, double max_separation,
           const WorldFrame& world, ContactResult& out) {
   std::size_t kept = 0;
   for (std::size_t i = 0; i < c.size; ++i) {
     Candidate x = c[i];
     x.separation -= radius_a + radius_b;
-    if (!(x.separation <= contact_distance)) continue;
+    if (!(x.separation <= max_separation)) continue;
     x.on_a += radius_a * normal;
     x.on_b -= radius_b * normal;
     c[kept++] = x;
@@ -188,6 +189,80 @@ struct Placement {
   Vec direction(const Vec& d) const { return rotation * d; }
 };
 
+// The incident face for a reference normal n (A's frame, out of the
+// reference): the face most anti-parallel to n around inc's support vertex
+// in -n.
+Index incident_face(const SatPolytope& inc, const Placement& inc_place, const Vec& n) {
+  const Vec m = inc_place.rotation.transpose() * n;  // n in inc's frame
+  const Index v = inc.support(-m);
+  Index face = hull::kInvalidIndex;
+  double best = std::numeric_limits<double>::infinity();
+  for (const Index g : inc.mesh->vertex_faces(v)) {
+    const double dot = inc.plane(g).normal.dot(m);
+    if (dot < best) {
+      best = dot;
+      face = g;
+    }
+  }
+  return face;
+}
+
+// How far the ray p + t d (d unit, p within r of the segment a-b) runs
+// inside the capsule of radius r around a-b: the later exit of the ball at
+// a and of the cylinder around a-b (where its exit lies between a and b).
+// The ball at b is the ball at a of the neighbouring edge (a capsule: call
+// it with the ends swapped too).
+double segment_exit(const Vec& p, const Vec& d, const Vec& a, const Vec& b, double r) {
+  double t = -std::numeric_limits<double>::infinity();
+  const Vec w = p - a;
+  const double bq = d.dot(w), disc = bq * bq - (w.squaredNorm() - r * r);
+  if (disc >= 0.0) t = -bq + std::sqrt(disc);
+  const Vec ab = b - a;
+  const double len = ab.norm();
+  if (!(len > 0.0)) return t;
+  const Vec u = ab / len;
+  const Vec dp = d - d.dot(u) * u, wp = w - w.dot(u) * u;
+  const double qa = dp.squaredNorm(), qb = dp.dot(wp), qd = qb * qb - qa * (wp.squaredNorm() - r * r);
+  if (qa > 0.0 && qd >= 0.0) {
+    const double tc = (-qb + std::sqrt(qd)) / qa;
+    const double along = (w + tc * d).dot(u);
+    if (along >= 0.0 && along <= len) t = std::max(t, tc);
+  }
+  return t;
+}
+
+// How far the ray p + t d (p on face f of a core, d unit, A's frame) runs
+// inside the core grown by radius r. The grown core is the union of the
+// faces' slabs, the edges' cylinders and the vertices' balls, a convex
+// union: the ray leaves it where it leaves the last of them. Near p (within
+// about r) only face f, its edges, its vertices and the faces around them
+// can hold that exit; at least r (p is on the core), exactly r when d is
+// in the core's normal cone at p.
+double exit_distance(const SatPolytope& poly, const Placement& place, Index f, const Vec& p, const Vec& d, double r) {
+  const hull::HalfEdgeMesh& m = *poly.mesh;
+  double t = r;
+  auto slab = [&](Index g) {
+    const Vec n = place.direction(poly.plane(g).normal);
+    const double nd = n.dot(d);
+    if (!(nd > 0.0)) return;
+    const Vec c = place.point(poly.vertex(m.origin(m.faces[g].edge)));
+    const double ts = (n.dot(c - p) + r) / nd;
+    const Vec foot = p + ts * d - r * n;
+    for (const Index e : m.face_edges(g)) {
+      const Vec a = place.point(poly.vertex(m.origin(e)));
+      const Vec side = (place.point(poly.vertex(m.destination(e))) - a).cross(n);
+      if (side.dot(foot - a) > 0.0) return;  // the foot leaves face g: an edge or a vertex holds the exit
+    }
+    t = std::max(t, ts);
+  };
+  for (const Index e : m.face_edges(f)) {
+    const Vec a = place.point(poly.vertex(m.origin(e)));
+    t = std::max(t, segment_exit(p, d, a, place.point(poly.vertex(m.destination(e))), r));
+    for (const Index g : m.vertex_faces(m.origin(e))) slab(g);
+  }
+  return t;
+}
+
 // Face contact: reference face `ref_face` of `ref`, incident face searched
 // around inc's support vertex. Candidates' on_a / on_b follow A and B
 // (ref_is_a says which is which). Returns false when a face is too large for
@@ -201,18 +276,7 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
   const Vec n = ref_place.direction(rp.normal);  // A's frame, out of ref
   const Vec ref_point = ref_place.point(ref.vertex(rm.origin(rm.faces[ref_face].edge)));
   const double offset = n.dot(ref_point);
-  // Incident face: the most anti-parallel face around inc's support vertex in -n.
-  const Vec m = inc_place.rotation.transpose() * n;  // n in inc's frame
-  const Index v = inc.support(-m);
-  Index inc_face = hull::kInvalidIndex;
-  double best = std::numeric_limits<double>::infinity();
-  for (const Index g : im.vertex_faces(v)) {
-    const double dot = inc.plane(g).normal.dot(m);
-    if (dot < best) {
-      best = dot;
-      inc_face = g;
-    }
-  }
+  const Index inc_face = incident_face(inc, inc_place, n);
   if (inc_face == hull::kInvalidIndex) return false;
   const std::size_t inc_degree = im.face_degree(inc_face), ref_degree = rm.face_degree(ref_face);
   if (inc_degree + ref_degree > kClipCapacity) return false;
@@ -312,6 +376,25 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
   return true;
 }
 
+// Rounded shapes: the cores' face candidates (reference normal nf, A's
+// frame, out of the reference) turned into witnesses on the rounded
+// surfaces on the line through each point: the reference side moves out by
+// its radius (nf is its face normal), the incident side by its exit
+// distance along -nf, so each separation is the exact gap of the two
+// rounded surfaces along nf there.
+void round_candidates(CandidateList& c, const Vec& nf, bool ref_is_a, double r_ref, const SatPolytope& inc,
+                      const Placement& inc_place, Index inc_face, double r_inc) {
+  for (std::size_t i = 0; i < c.size; ++i) {
+    Candidate& x = c[i];
+    Vec& on_ref = ref_is_a ? x.on_a : x.on_b;
+    Vec& on_inc = ref_is_a ? x.on_b : x.on_a;
+    const double t = exit_distance(inc, inc_place, inc_face, on_inc, -nf, r_inc);
+    on_ref += r_ref * nf;
+    on_inc -= t * nf;
+    x.separation -= r_ref + t;
+  }
+}
+
 // Closest points of segments p0 + s u and q0 + t v, s, t in [0, 1]
 // (Ericson, Real-Time Collision Detection, 5.1.9, with guarded divisions).
 void closest_segment_points(const Vec& p0, const Vec& u, const Vec& q0, const Vec& v, Vec& on_p, Vec& on_q) {
@@ -369,6 +452,21 @@ double scale_of(const SatPolytope& a, const SatPolytope& b) { return std::max(a.
 // price: kept points may lie that far outside the reference face.
 double geometric_tolerance(double scale) { return 1e-6 * scale; }
 
+// GJK's normal of separated cores within this angle (radians) of a face
+// normal is that face's normal (closest features face-vertex, face-edge or
+// face-face; GJK's direction error is ~eps scale / distance).
+constexpr double kExactNormalAngle = 1e-6;
+
+// The largest separation that still yields points: the contact distance
+// plus the touching band of penetration() (a fraction of the pair's size).
+// Touching surfaces are 0 apart only up to rounding: SAT's separation, a
+// clipped point's, or penetration()'s distance of a pair placed exactly
+// touching comes out +-1e-16 of the size, and a filter against the bare
+// contact distance (0 by default) dropped every point of a resting body.
+double keep_below(const ContactSettings& settings, double scale) {
+  return settings.contact_distance + settings.penetration.touching_band * scale;
+}
+
 void flip(ContactResult& r) {
   r.normal = -r.normal;
   std::swap(r.point_a, r.point_b);
@@ -377,6 +475,56 @@ void flip(ContactResult& r) {
 
 ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
                            const ContactSettings& settings);
+
+Index face_along(const SatPolytope& poly, const Vec& n, double cos_tol);
+
+// Rounded polytopes whose cores are apart (the margins overlap or lie
+// within the contact distance): SAT's axes only bound the cores' distance,
+// so the manifold is built around the exact normal of the cores' closest
+// features (penetration(), GJK on the cores). When that normal is a face
+// normal of A or of B (closest features face-vertex, face-edge or
+// face-face), that face is the reference and the points are the clipped
+// incident face with exact rounded depths; otherwise the closest features
+// are a vertex or an edge on each side and the contact is penetration()'s
+// single point.
+ContactResult rounded_cores_apart(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
+                                  const SatPolytope& pa, const SatPolytope& pb, const RelativePose& rel, double ra,
+                                  double rb, double keep, const WorldFrame& world, ContactCache* cache,
+                                  const ContactSettings& settings, const ContactStats& stats) {
+  ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+  single.stats = stats;
+  if (single.count == 0 || single.status != Status::ok) return single;
+  const Vec n = pose_a.rotation.transpose() * single.normal;  // A's core frame, A -> B
+  const double cos_exact = std::cos(kExactNormalAngle);
+  const Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
+  const Placement placed_b{rel.rotation, rel.translation};
+  const double scale = scale_of(pa, pb) + std::max(ra, rb);
+  const double tol = geometric_tolerance(scale);
+  CandidateList candidates;
+  ContactResult out;
+  out.stats = stats;
+  Vec normal;
+  const Index fa = face_along(pa, n, cos_exact);
+  if (fa != hull::kInvalidIndex) {
+    out.path = ContactPath::face_a;
+    normal = pa.plane(fa).normal;
+    if (!face_contact(pa, identity, pb, placed_b, fa, true, tol, keep + ra + rb, candidates, out.stats.clipped_points))
+      return single;
+    round_candidates(candidates, normal, true, ra, pb, placed_b, incident_face(pb, placed_b, normal), rb);
+  } else {
+    const Index fb = face_along(pb, rel.rotation.transpose() * -n, cos_exact);
+    if (fb == hull::kInvalidIndex) return single;
+    out.path = ContactPath::face_b;
+    const Vec nb = rel.rotation * pb.plane(fb).normal;  // out of B, A's frame
+    normal = -nb;
+    if (!face_contact(pb, placed_b, pa, identity, fb, false, tol, keep + ra + rb, candidates, out.stats.clipped_points))
+      return single;
+    round_candidates(candidates, nb, false, rb, pa, identity, incident_face(pa, identity, nb), ra);
+  }
+  emit(candidates, normal, 0.0, 0.0, keep, world, out);
+  if (out.count == 0) return single;
+  return out;
+}
 
 template <class SA, class SB>
 ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
@@ -390,7 +538,8 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   const double ra = core_radius(a), rb = core_radius(b);
   const WorldFrame world{pose_a, core_offset(a)};
   const double scale = scale_of(pa, pb) + std::max(ra, rb);
-  const double core_contact = settings.contact_distance + ra + rb;
+  const double keep = keep_below(settings, scale);
+  const double core_contact = keep + ra + rb;
   SatSettings sat;
   sat.parallel_tolerance = settings.parallel_tolerance;
   sat.early_out = core_contact;
@@ -439,16 +588,24 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   const Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
   const Placement placed_b{rel.rotation, rel.translation};
   const double tol = geometric_tolerance(scale);
+  const bool rounded = ra + rb > 0.0;
+  if (rounded && best->separation > settings.penetration.touching_band * scale)
+    return rounded_cores_apart(shape_a, pose_a, shape_b, pose_b, pa, pb, rel, ra, rb, keep, world, cache, settings,
+                               out.stats);
   Vec normal = best->normal;
   bool built = false;
   if (best->kind == SatAxisKind::face_a) {
     out.path = ContactPath::face_a;
     built = face_contact(pa, identity, pb, placed_b, best->feature_a, true, tol, core_contact, candidates,
                          out.stats.clipped_points);
+    if (built && rounded)
+      round_candidates(candidates, normal, true, ra, pb, placed_b, incident_face(pb, placed_b, normal), rb);
   } else if (best->kind == SatAxisKind::face_b) {
     out.path = ContactPath::face_b;
     built = face_contact(pb, placed_b, pa, identity, best->feature_b, false, tol, core_contact, candidates,
                          out.stats.clipped_points);
+    if (built && rounded)
+      round_candidates(candidates, -normal, false, rb, pa, identity, incident_face(pa, identity, -normal), ra);
   } else {
     out.path = ContactPath::edge;
     const hull::HalfEdgeMesh& ma = *pa.mesh;
@@ -465,15 +622,24 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
     candidates.push(on_a, on_b, best->separation, id);
     built = true;
   }
-  if (!built || candidates.size == 0) {
-    // A face too large for the fixed buffers, or an incident face entirely
-    // outside the reference face's side planes (deep contacts near an
-    // edge): one point from penetration().
+  const bool shifted = rounded && best->kind != SatAxisKind::edge;  // round_candidates moved them already
+  double deepest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < candidates.size; ++i) deepest = std::min(deepest, candidates[i].separation);
+  const double axis_separation = best->separation - (shifted ? ra + rb : 0.0);
+  // The incident shape's deepest vertex clipped away by the reference face's
+  // side planes (deep contacts near an edge): the kept points would be
+  // shallower than the axis by more than the bias allows.
+  const bool deepest_clipped = deepest > axis_separation + bias(best->separation);
+  if (!built || candidates.size == 0 || deepest_clipped) {
+    // A face too large for the fixed buffers, an incident face entirely
+    // outside the reference face's side planes, or its deepest vertex
+    // outside them (deep contacts near an edge): one point from
+    // penetration().
     ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
     single.stats = out.stats;
     return single;
   }
-  emit(candidates, normal, ra, rb, settings.contact_distance, world, out);
+  emit(candidates, normal, shifted ? 0.0 : ra, shifted ? 0.0 : rb, keep, world, out);
   if (out.count == 0) {
     // Nothing within the contact distance after clipping (a gap along the
     // chosen axis beyond it): report the axis.
@@ -610,7 +776,8 @@ ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, c
   out.point_a = p.point_a;
   out.point_b = p.point_b;
   out.intersecting = p.distance <= 0.0;
-  if (p.distance <= settings.contact_distance) {
+  const double scale = std::max(bounding_radius(a), bounding_radius(b));
+  if (p.distance <= keep_below(settings, scale)) {
     out.count = 1;
     out.points[0].point = 0.5 * (p.point_a + p.point_b);
     out.points[0].depth = -p.distance;
@@ -679,7 +846,29 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
     }
   }
   out.stats.clipped_points = static_cast<int>(candidates.size);
-  emit(candidates, nf, ra, rb, settings.contact_distance, world, out);
+  if constexpr (std::is_same_v<SB, Capsule>) {
+    // A capsule is round about its segment: each point's exit along -nf
+    // from the segment (r / sin of the tilt on the side, less near an end),
+    // not the radius, unless the segment lies along the face.
+    // A line through the segment (a capsule standing on the face) leaves it
+    // at the lower end's surface for both ends: one point, not two.
+    const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < candidates.size; ++i) {
+      Candidate x = candidates[i];
+      const double t = std::max(segment_exit(x.on_b, -nf, s0, s1, rb), segment_exit(x.on_b, -nf, s1, s0, rb));
+      x.on_a += ra * nf;
+      x.on_b -= t * nf;
+      x.separation -= ra + t;
+      bool repeated = false;
+      for (std::size_t k = 0; k < kept; ++k) repeated = repeated || (candidates[k].on_b - x.on_b).norm() <= tol;
+      if (!repeated) candidates[kept++] = x;
+    }
+    candidates.size = kept;
+    emit(candidates, nf, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), world, out);
+  } else {
+    emit(candidates, nf, ra, rb, keep_below(settings, scale + std::max(ra, rb)), world, out);
+  }
   if (out.count == 0) return first;
   return out;
 }

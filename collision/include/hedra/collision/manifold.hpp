@@ -12,7 +12,8 @@
 //       other shape's support vertex (its ring of faces). The incident
 //       polygon is clipped by the side planes of the reference face's edges
 //       (hull::clip_polygon, no allocation); points whose separation from
-//       the reference plane is <= the contact distance are kept, and
+//       the reference plane is <= the contact distance (plus the touching
+//       band, below) are kept, and
 //       reduced to four: the deepest, the one farthest from it, then the
 //       largest positive and negative signed triangle areas with those two
 //       (the quadrilateral of largest area these choices can reach);
@@ -39,7 +40,15 @@
 //     clipped like a capsule's. Otherwise one point.
 //   * every other pair (spheres, curved against curved, point/segment/flat
 //     hulls): one point from penetration().
-// Margins (rounded shapes): the core's manifold shifted by the radii.
+// Margins (rounded shapes): every point's depth is the gap of the rounded
+// surfaces on its line along the normal (the reference side its radius out
+// of the face; the incident side where the line leaves the incident core
+// grown by its radius: r / cos(tilt) off a tilted face). Cores apart: SAT
+// only bounds their distance, so the manifold follows GJK's normal of the
+// cores (a face contact when it is a face normal of A or B within 1e-6 rad,
+// else penetration()'s point). A face contact whose kept points are
+// shallower than its axis by more than the bias (the deepest incident
+// vertex clipped away) is penetration()'s point too.
 //
 // Points. Each ContactPoint holds the midpoint between the two surfaces and
 // the depth along the normal: the point on A is point + (depth / 2) normal,
@@ -119,6 +128,9 @@ inline constexpr int kMaxContactPoints = 4;
 struct ContactSettings {
   // Speculative margin (world length): pairs closer than this return their
   // points with negative depth; 0 reports touching and overlapping pairs only.
+  // Touching counts up to penetration.touching_band of the pair's size
+  // (1e-9): surfaces placed exactly touching are 0 apart only up to
+  // rounding, and their points are kept (depth ~ 0, either sign).
   double contact_distance = 0.0;
   // Bias towards face contacts (see the top of the file): relative to the
   // incumbent separation's magnitude, absolute as a fraction of the pair's size.
