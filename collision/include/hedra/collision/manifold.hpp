@@ -95,7 +95,7 @@ enum class FeatureKind : std::uint8_t {
   face_clip,    // an incident edge cut by the side plane of reference half-edge `clip`:
                 // incident = the incident half-edge (or its twin, the smaller index)
   face_corner,  // a corner of the reference face (on no incident edge): clip = the
-                // nearest side plane's half-edge, incident = the incident face
+                // reference half-edge leaving that corner, incident = the incident face
   edge,         // edge-edge: reference = A's half-edge, incident = B's half-edge
   segment,      // capsule / side line: incident = 0 or 1 (an end kept), or 2 (cut by the side
                 // plane of reference half-edge `clip`)
