@@ -599,8 +599,15 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   }
   // Face axes first, then edges, each challenger beating the incumbent by the bias.
   const auto bias = [&](double sep) { return settings.relative_bias * std::abs(sep) + settings.absolute_bias * scale; };
-  const SatAxis* best = &s.face_a;
-  if (s.face_b.separation > s.face_a.separation + bias(s.face_a.separation)) best = &s.face_b;
+  // The incumbent face is A's, or B's when the pair's cache says B's best
+  // face was the reference last frame: without that memory a slide that
+  // carries the two faces' separations across the bias swaps the reference
+  // face although the same faces touch, and renames every point.
+  const bool keep_b = cache && cache->axis == SatAxisKind::face_b && cache->feature == s.face_b.feature_b;
+  const SatAxis* incumbent = keep_b ? &s.face_b : &s.face_a;
+  const SatAxis* challenger = keep_b ? &s.face_a : &s.face_b;
+  const SatAxis* best = incumbent;
+  if (challenger->separation > incumbent->separation + bias(incumbent->separation)) best = challenger;
   if (s.edge.kind == SatAxisKind::edge && s.edge.separation > best->separation + bias(best->separation)) best = &s.edge;
   remember(*best);
 

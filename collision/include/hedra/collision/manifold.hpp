@@ -18,7 +18,8 @@
 //       largest positive and negative signed triangle areas with those two
 //       (the quadrilateral of largest area these choices can reach);
 //       edge contact: one point, the closest points of the two edges.
-//     Face axes are preferred over edge axes, and A's face over B's: the
+//     Face axes are preferred over edge axes, and A's face over B's (B's
+//     when the cache holds B's same face from the last frame): the
 //     challenger must beat the incumbent by relative_bias |s| +
 //     absolute_bias scale, so a tilt of 1e-6 rad never flips the manifold.
 //     The reported depth is therefore at most that bias above the exact
@@ -65,7 +66,9 @@
 //
 // Cache: a ContactCache per pair carries GJK's warm start and the last SAT
 // axis. A pair separated along its cached face axis by more than the contact
-// distance is answered from that axis alone; otherwise the full SAT runs.
+// distance is answered from that axis alone; otherwise the full SAT runs,
+// and a cached reference face of B that is still B's best face stays the
+// incumbent (the reference face does not swap while the same faces touch).
 #pragma once
 
 #include <Eigen/Core>
