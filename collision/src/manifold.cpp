@@ -263,6 +263,22 @@ double exit_distance(const SatPolytope& poly, const Placement& place, Index f, c
   return t;
 }
 
+// The half-edge of face f leaving the face's vertex nearest x (A's frame):
+// the name of a corner of the reference face.
+Index corner_edge(const SatPolytope& poly, const Placement& place, Index f, const Vec& x) {
+  const hull::HalfEdgeMesh& m = *poly.mesh;
+  Index corner = hull::kInvalidIndex;
+  double best = std::numeric_limits<double>::infinity();
+  for (const Index e : m.face_edges(f)) {
+    const double d = (place.point(poly.vertex(m.origin(e))) - x).squaredNorm();
+    if (d < best) {
+      best = d;
+      corner = e;
+    }
+  }
+  return corner;
+}
+
 // Face contact: reference face `ref_face` of `ref`, incident face searched
 // around inc's support vertex. Candidates' on_a / on_b follow A and B
 // (ref_is_a says which is which). Returns false when a face is too large for
@@ -364,7 +380,11 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
         id.kind = FeatureKind::face_clip;
         id.incident = std::min(edge, im.twin(edge));
       } else {
+        // A corner lies on two side planes and each side plane holds two
+        // corners: "the nearest side plane" is rounding's choice and names
+        // two corners alike. The corner is named by its own half-edge.
         id.kind = FeatureKind::face_corner;
+        id.clip = corner_edge(ref, ref_place, ref_face, on_ref);
         id.incident = inc_face;
       }
     }
@@ -579,8 +599,15 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   }
   // Face axes first, then edges, each challenger beating the incumbent by the bias.
   const auto bias = [&](double sep) { return settings.relative_bias * std::abs(sep) + settings.absolute_bias * scale; };
-  const SatAxis* best = &s.face_a;
-  if (s.face_b.separation > s.face_a.separation + bias(s.face_a.separation)) best = &s.face_b;
+  // The incumbent face is A's, or B's when the pair's cache says B's best
+  // face was the reference last frame: without that memory a slide that
+  // carries the two faces' separations across the bias swaps the reference
+  // face although the same faces touch, and renames every point.
+  const bool keep_b = cache && cache->axis == SatAxisKind::face_b && cache->feature == s.face_b.feature_b;
+  const SatAxis* incumbent = keep_b ? &s.face_b : &s.face_a;
+  const SatAxis* challenger = keep_b ? &s.face_a : &s.face_b;
+  const SatAxis* best = incumbent;
+  if (challenger->separation > incumbent->separation + bias(incumbent->separation)) best = challenger;
   if (s.edge.kind == SatAxisKind::edge && s.edge.separation > best->separation + bias(best->separation)) best = &s.edge;
   remember(*best);
 

@@ -280,6 +280,58 @@ TEST_F(SceneCli, ContactReturnsTheFaceManifold) {
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
 }
 
+// A box 0.01 above a larger box: with "contact_distance": 0.02 the contact
+// query returns the four corners as speculative points (depth -0.01, not
+// intersecting); without it, no points (the format's default, 0).
+TEST_F(SceneCli, ContactDistanceGivesSpeculativePoints) {
+  const std::string shapes =
+      R"({"ground": {"type": "box", "half_extents": [2, 2, 0.5]}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}})";
+  const std::string bodies = R"({"g": {"shape": "ground"}, "c": {"shape": "crate", "position": [0, 0, 1.01]}})";
+  const std::string file = write(
+      "speculative.json",
+      scene(
+          shapes, bodies,
+          R"([{"a": "g", "b": "c", "type": "contact", "contact_distance": 0.02, "expect": {"contact_count": 4, "intersecting": false, "distance": 0.01}},
+                {"a": "g", "b": "c", "type": "contact", "expect": {"contact_count": 0, "distance": 0.01}},
+                {"a": "g", "b": "c", "type": "contact", "contact_distance": 0.005, "expect": {"contact_count": 0}}])"));
+  const RunResult query = run({"query", file, "--json"});
+  ASSERT_EQ(query.exit_code, 0) << query.err;
+  const nlohmann::json doc = nlohmann::json::parse(query.out);
+  const nlohmann::json& r = doc["results"][0];
+  EXPECT_EQ(r["status"], "ok");
+  EXPECT_FALSE(r["intersecting"].get<bool>());
+  ASSERT_EQ(r["contacts"].size(), 4u);
+  for (const nlohmann::json& c : r["contacts"]) EXPECT_NEAR(c["depth"].get<double>(), -0.01, 1e-12);
+  EXPECT_TRUE(doc["results"][1]["contacts"].empty());
+  EXPECT_TRUE(doc["results"][2]["contacts"].empty());
+  const RunResult check = run({"check", file});
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+}
+
+TEST_F(SceneCli, BadContactDistancesAreErrorsNamingTheirPath) {
+  const struct {
+    std::string query, message;
+  } cases[] = {
+      {R"({"type": "contact", "a": "p", "b": "q", "contact_distance": -0.5})", "queries[0].contact_distance: negative"},
+      {R"({"type": "contact", "a": "p", "b": "q", "contact_distance": "near"})",
+       "queries[0].contact_distance: expected a number, got a string"},
+      {R"({"type": "contact", "a": "p", "b": "q", "contact_distance": 1e61})",
+       "queries[0].contact_distance: too large"},
+      {R"({"type": "penetration", "a": "p", "b": "q", "contact_distance": 0.1})",
+       "queries[0].contact_distance: unknown key"},
+  };
+  for (const auto& c : cases) {
+    const std::string file = write("bad_contact_distance.json", scene(kTwoBalls, kTwoBallBodies, "[" + c.query + "]"));
+    expect_bad({"query", file}, {file + ": " + c.message});
+    expect_bad({"check", file}, {file + ": " + c.message});
+  }
+  // Not finite: JSON has no infinity, and a number beyond a double is malformed.
+  const std::string inf = write(
+      "inf.json",
+      scene(kTwoBalls, kTwoBallBodies, R"([{"type": "contact", "a": "p", "b": "q", "contact_distance": 1e400}])"));
+  expect_bad({"query", inf}, {inf + ":", "not a finite double"});
+}
+
 TEST_F(SceneCli, OneBadSceneFailsTheWholeCheck) {
   const std::string good = write("good.json", scene(kTwoBalls, kTwoBallBodies, kBallQuery));
   const std::string bad = write("bad.json", scene(R"({"ball": {"type": "sphere"}})", kTwoBallBodies, kBallQuery));

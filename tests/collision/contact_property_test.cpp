@@ -1,7 +1,9 @@
-// Property test of contact() over twelve seeded pair families (random hulls
-// of 8 to 64 vertices, boxes, rounded boxes and hulls with margins of 2 % to
-// 10 % of the size, capsules and cylinders, sharp and rounded, against
-// polytopes; 150 poses each), each pair penetrating
+// Property test of contact() over nineteen seeded pair families (random
+// hulls of 8 to 64 vertices, boxes, rounded boxes and hulls with margins of
+// 2 % to 10 % of the size, spheres, capsules, cylinders and cones, sharp and
+// rounded, against polytopes, 150 random poses each; and cones standing or
+// lying on a box's face, tilted by up to 5e-4 rad, 75 each, so that their
+// cap and side-line paths run), each pair penetrating
 // or brought to touching (B moved along penetration()'s normal by its
 // distance). For every pair:
 //   * status ok and at least one point;
@@ -38,6 +40,27 @@ Pose random_pose(std::mt19937_64& rng, const Vec& t) {
   return Pose::from_quaternion(Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized(), t);
 }
 
+// Distance from (x, y) to the segment p-q in the plane.
+double segment_distance_2d(const Eigen::Vector2d& x, const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+  const Eigen::Vector2d d = q - p;
+  const double t = std::clamp((x - p).dot(d) / d.squaredNorm(), 0.0, 1.0);
+  return (p + t * d - x).norm();
+}
+
+// Signed distance of a local point to a cone's core (apex (0, 0, h), base
+// disc of radius r at z = -h), exact: in the half-plane (radial, z) the core
+// is the triangle (0, -h), (r, -h), (0, h); outside, the distance to its base
+// and slant edges; inside, the larger of the two facets' signed distances.
+double cone_distance(const Cone& c, const Vec& local) {
+  const Eigen::Vector2d x(std::hypot(local.x(), local.y()), local.z());
+  const double h = c.half_length, r = c.radius;
+  const Eigen::Vector2d base0(0.0, -h), rim(r, -h), apex(0.0, h);
+  const Eigen::Vector2d slant_normal = Eigen::Vector2d(2.0 * h, r).normalized();  // out of the slant side
+  const double base = -h - x.y(), slant = slant_normal.dot(x - apex);
+  if (base <= 0.0 && slant <= 0.0) return std::max(base, slant);
+  return std::min(segment_distance_2d(x, base0, rim), segment_distance_2d(x, rim, apex));
+}
+
 // Signed distance of world point x to a posed shape: exact on and outside
 // the surface, <= 0 inside (hull cores: the largest plane distance).
 double signed_distance(const Shape& s, const Pose& pose, const Vec& x) {
@@ -50,6 +73,8 @@ double signed_distance(const Shape& s, const Pose& pose, const Vec& x) {
     const Vec p(0.0, 0.0, std::clamp(local.z(), -c->half_length, c->half_length));
     return (local - p).norm() - c->radius - c->margin;
   }
+  if (const Sphere* b = std::get_if<Sphere>(&s)) return local.norm() - b->radius - b->margin;
+  if (const Cone* c = std::get_if<Cone>(&s)) return cone_distance(*c, local) - c->margin;
   if (const Cylinder* c = std::get_if<Cylinder>(&s)) {
     const double radial = std::hypot(local.x(), local.y()) - c->radius;
     const double axial = std::abs(local.z()) - c->half_length;
@@ -110,6 +135,18 @@ std::vector<Pair> make_pairs(int per_family) {
     std::uniform_real_distribution<double> u(0.2, 0.8);
     return Cylinder{u(r), u(r), m};
   };
+  const Maker sphere = [](std::mt19937_64& r, double m) -> Shape {
+    std::uniform_real_distribution<double> u(0.2, 0.8);
+    return Sphere{u(r), m};
+  };
+  const Maker cone = [](std::mt19937_64& r, double) -> Shape {
+    std::uniform_real_distribution<double> u(0.2, 0.8);
+    return Cone{u(r), u(r), 0.0};
+  };
+  const Maker rounded_cone = [](std::mt19937_64& r, double m) -> Shape {
+    std::uniform_real_distribution<double> u(0.2, 0.8);
+    return Cone{u(r), u(r), m};
+  };
   const Family families[] = {
       {"hulls", random_hull, random_hull, false},
       {"boxes", random_box, random_box, false},
@@ -123,6 +160,11 @@ std::vector<Pair> make_pairs(int per_family) {
       {"rounded_hull_capsule", random_hull, rounded_capsule, true},
       {"rounded_box_cylinder", random_box, rounded_cylinder, true},
       {"hull_cylinder", random_hull, cylinder, false},
+      {"box_sphere", random_box, sphere, false},
+      {"rounded_hull_sphere", random_hull, sphere, true},
+      {"box_cone", random_box, cone, false},
+      {"hull_cone", random_hull, cone, false},
+      {"rounded_box_cone", random_box, rounded_cone, true},
   };
   std::vector<Pair> pairs;
   for (const Family& f : families)
@@ -133,12 +175,33 @@ std::vector<Pair> make_pairs(int per_family) {
       p.pb = random_pose(rng, reach(rng) * r * random_unit(rng));
       pairs.push_back(p);
     }
+  // Cones on a box's top face (random poses almost never hold a cap or a
+  // side line along a face): standing on the base or lying on a side line,
+  // tilted by up to 5e-4 rad (within face_angle_tolerance), 1e-3 to 5e-2 deep.
+  std::uniform_real_distribution<double> tilt(0.0, 5e-4), depth(1e-3, 5e-2), offset(-0.5, 0.5);
+  for (int i = 0; i < per_family; ++i) {
+    const Shape box = random_box(rng, 0.0);
+    const Vec half = std::get<Box>(box).half_extents;
+    const Cone c = std::get<Cone>(cone(rng, 0.0));
+    const bool lying = i % 2 == 1;
+    const double h = c.half_length, r = c.radius;
+    // Lying: the slant side on -y (outward normal (0, -2h, r)) turned to face down.
+    const Eigen::Quaterniond down = lying ? Eigen::Quaterniond::FromTwoVectors(Vec(0.0, -2.0 * h, r), -Vec::UnitZ())
+                                          : Eigen::Quaterniond::Identity();
+    const Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(tilt(rng), random_unit(rng))) * down;
+    const Vec lowest =
+        q * (lying ? Vec(0.0, -r, -h) : Vec(0.0, 0.0, -h));  // a point of the side line, or the base centre
+    const Vec t(offset(rng) * half.x(), offset(rng) * half.y(), half.z() - depth(rng) - lowest.z());
+    pairs.push_back(
+        {box, c, Pose::identity(), Pose::from_quaternion(q, t), lying ? "cone_lying_on_box" : "cone_on_box"});
+  }
   return pairs;
 }
 
 struct Worst {
   double surface = 0.0, below_exact = 0.0, distance_gap = 0.0;
   int pairs = 0, touching = 0, failures = 0, biased = 0;
+  int cap = 0, segment = 0;  // cones' caps and side lines on a face
 };
 
 void check_pair(const Pair& p, const std::string& kind, Worst& worst) {
@@ -149,6 +212,10 @@ void check_pair(const Pair& p, const std::string& kind, Worst& worst) {
   const ContactSettings settings;
   const ContactResult c = contact(p.a, p.pa, p.b, p.pb, nullptr, settings);
   ++worst.pairs;
+  if (std::holds_alternative<Cone>(p.b)) {
+    worst.cap += c.path == ContactPath::cap;
+    worst.segment += c.path == ContactPath::segment;
+  }
   SCOPED_TRACE(p.family + " " + kind + " pen " + std::to_string(pen.distance) + " path " + to_string(c.path));
   EXPECT_EQ(c.status, Status::ok);
   EXPECT_GE(c.count, 1);
@@ -199,6 +266,9 @@ TEST(ContactProperty, PenetratingAndTouchingPairsGetExactPoints) {
       worst.pairs, worst.touching, worst.failures, worst.biased, worst.surface, worst.below_exact, worst.distance_gap);
   EXPECT_GT(worst.pairs, 1500);
   EXPECT_GT(worst.touching, 600);
+  std::printf("cone pairs on the cap path %d, on the side-line path %d\n", worst.cap, worst.segment);
+  EXPECT_GT(worst.cap, 100);
+  EXPECT_GT(worst.segment, 100);
 }
 
 }  // namespace

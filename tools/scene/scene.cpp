@@ -413,6 +413,10 @@ QuerySpec read_query(const json& value, const std::string& path, const std::vect
       check_keys(value, path, {"a", "b", "type", "target_distance", "expect"});
       if (const json* v = optional_member(value, "target_distance"))
         query.target_distance = non_negative(*v, member(path, "target_distance"));
+    } else if (query.type == QueryType::contact) {
+      check_keys(value, path, {"a", "b", "type", "contact_distance", "expect"});
+      if (const json* v = optional_member(value, "contact_distance"))
+        query.contact_distance = non_negative(*v, member(path, "contact_distance"));
     } else {
       check_keys(value, path, {"a", "b", "type", "expect"});
     }

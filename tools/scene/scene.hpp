@@ -92,6 +92,7 @@ struct QuerySpec {
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // never zero
   double max_fraction = 1.0;                            // >= 0
   double target_distance = 0.0;                         // cast, toi: >= 0
+  double contact_distance = 0.0;                        // contact: >= 0, collision::ContactSettings
   std::optional<Expectation> expect;
 };
 

@@ -121,11 +121,14 @@ QueryOutcome run_penetration(const collision::Shape& a, const collision::Pose& p
 // dedicated paths for curved shapes, see manifold.hpp), its deepest
 // witnesses as point_a/point_b and its manifold as `contacts`. The format
 // answers a contact query "as penetration": when the manifold finds the pair
-// separated beyond its contact distance (a SAT lower bound, no witnesses),
+// separated beyond its contact distance (the query's `contact_distance`,
+// default 0; a SAT lower bound, no witnesses),
 // the exact distance and closest points come from collision::penetration(),
 // timed together with the manifold.
 QueryOutcome run_contact(const collision::Shape& a, const collision::Pose& pa, const collision::Shape& b,
-                         const collision::Pose& pb, int repeat) {
+                         const collision::Pose& pb, const QuerySpec& query, int repeat) {
+  collision::ContactSettings settings;
+  settings.contact_distance = query.contact_distance;
   QueryOutcome out;
   out.type = QueryType::contact;
   struct Answer {
@@ -133,7 +136,7 @@ QueryOutcome run_contact(const collision::Shape& a, const collision::Pose& pa, c
     std::optional<collision::PenetrationResult> exact;
   };
   const Answer r = timed(repeat, out.time_ns, [&] {
-    Answer answer{collision::contact(a, pa, b, pb), std::nullopt};
+    Answer answer{collision::contact(a, pa, b, pb, nullptr, settings), std::nullopt};
     if (answer.manifold.path == collision::ContactPath::separated && answer.manifold.count == 0) {
       answer.exact = collision::penetration(a, pa, b, pb);
     }
@@ -280,7 +283,7 @@ QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat) {
     case QueryType::penetration:
       return run_penetration(a, pa, b, pb, repeat);
     case QueryType::contact:
-      return run_contact(a, pa, b, pb, repeat);
+      return run_contact(a, pa, b, pb, query, repeat);
     case QueryType::raycast:
       return run_raycast(a, pa, query, repeat);
     case QueryType::cast:
@@ -288,7 +291,7 @@ QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat) {
     case QueryType::toi:
       return run_toi(a, scene.bodies[query.a], b, scene.bodies[query.b], query, repeat);
   }
-  return run_contact(a, pa, b, pb, repeat);
+  return run_contact(a, pa, b, pb, query, repeat);
 }
 
 std::optional<LoadedScene> prepare_scene(const std::string& path, std::string& error) {

@@ -18,7 +18,8 @@
 //       largest positive and negative signed triangle areas with those two
 //       (the quadrilateral of largest area these choices can reach);
 //       edge contact: one point, the closest points of the two edges.
-//     Face axes are preferred over edge axes, and A's face over B's: the
+//     Face axes are preferred over edge axes, and A's face over B's (B's
+//     when the cache holds B's same face from the last frame): the
 //     challenger must beat the incumbent by relative_bias |s| +
 //     absolute_bias scale, so a tilt of 1e-6 rad never flips the manifold.
 //     The reported depth is therefore at most that bias above the exact
@@ -65,7 +66,9 @@
 //
 // Cache: a ContactCache per pair carries GJK's warm start and the last SAT
 // axis. A pair separated along its cached face axis by more than the contact
-// distance is answered from that axis alone; otherwise the full SAT runs.
+// distance is answered from that axis alone; otherwise the full SAT runs,
+// and a cached reference face of B that is still B's best face stays the
+// incumbent (the reference face does not swap while the same faces touch).
 #pragma once
 
 #include <Eigen/Core>
@@ -95,7 +98,7 @@ enum class FeatureKind : std::uint8_t {
   face_clip,    // an incident edge cut by the side plane of reference half-edge `clip`:
                 // incident = the incident half-edge (or its twin, the smaller index)
   face_corner,  // a corner of the reference face (on no incident edge): clip = the
-                // nearest side plane's half-edge, incident = the incident face
+                // reference half-edge leaving that corner, incident = the incident face
   edge,         // edge-edge: reference = A's half-edge, incident = B's half-edge
   segment,      // capsule / side line: incident = 0 or 1 (an end kept), or 2 (cut by the side
                 // plane of reference half-edge `clip`)
