@@ -5,7 +5,10 @@
 // tool), and the subcommand end to end: the reference and verdicts of
 // closed-form sphere pairs, a well-formed --json document, a real
 // unsupported peer (FCL has no margins), bad input exactly as `hedra query`
-// reports it.
+// reports it. Continuous queries: hedra judged against the exact first
+// contact (late, missed, early and false hits failing it; a trace that runs
+// out not judged), and fabricated continuous peers that crash or tunnel
+// reported without failing the command.
 #include "cli/compare/compare.hpp"
 
 #include <Eigen/Core>
