@@ -5,7 +5,10 @@
 // tool), and the subcommand end to end: the reference and verdicts of
 // closed-form sphere pairs, a well-formed --json document, a real
 // unsupported peer (FCL has no margins), bad input exactly as `hedra query`
-// reports it.
+// reports it. Continuous queries: hedra judged against the exact first
+// contact (late, missed, early and false hits failing it; a trace that runs
+// out not judged), and fabricated continuous peers that crash or tunnel
+// reported without failing the command.
 #include "cli/compare/compare.hpp"
 
 #include <Eigen/Core>
@@ -227,6 +230,103 @@ TEST(CompareScene, TheScenesToleranceReplacesTheDefault) {
   EXPECT_EQ(report.queries[0].reference.angle_tolerance, 0.5);
 }
 
+// ---- continuous queries ------------------------------------------------------
+
+// A ball (radius 0.5) moving 6 along x into a unit box at the origin: first
+// contact at t = (3 - 1.5) / 6 = 0.25, cast and toi; a ray along x from
+// x = -4 enters the box at fraction 3/8; the same ball passing 1e-6 over the
+// box's top face, a flat grazing miss the reference's trace cannot finish.
+const char* kSweepScene = R"({"hedra_scene": 1, "name": "sweep",
+  "shapes": {"ball": {"type": "sphere", "radius": 0.5}, "box": {"type": "box", "half_extents": [1, 1, 1]}},
+  "bodies": {"ball": {"shape": "ball", "position": [-3, 0, 0], "end_position": [3, 0, 0]},
+             "box": {"shape": "box"},
+             "skimmer": {"shape": "ball", "position": [-3, 0, 1.500001], "end_position": [3, 0, 1.500001]}},
+  "queries": [{"a": "ball", "b": "box", "type": "cast"},
+              {"a": "ball", "b": "box", "type": "toi"},
+              {"type": "raycast", "body": "box", "origin": [-4, 0.5, 0.5], "direction": [8, 0, 0]},
+              {"a": "skimmer", "b": "box", "type": "cast"}]})";
+
+TEST(CompareContinuous, HedraIsJudgedAgainstTheFirstContact) {
+  const std::optional<LoadedScene> loaded = load(kSweepScene);
+  ASSERT_TRUE(loaded);
+  CompareOptions options;
+  options.with_peers = false;
+  const CompareReport report = compare_scene(*loaded, options);
+  ASSERT_EQ(report.queries.size(), 4u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    SCOPED_TRACE("query " + std::to_string(i));
+    const QueryComparison& q = report.queries[i];
+    ASSERT_TRUE(q.reference.continuous);
+    const hedra::reference::FirstContact& f = q.reference.continuous->contact;
+    EXPECT_TRUE(q.reference.continuous->available());
+    const double expected = i < 2 ? 0.25 : 3.0 / 8.0;
+    EXPECT_LE(f.early, expected + 1e-12);
+    EXPECT_GE(f.late, expected - 1e-12);
+    EXPECT_LT(f.late - f.early, 1e-9);
+    EXPECT_EQ(q.hedra.judgement.verdict, Verdict::agree) << q.hedra.judgement.detail;
+    ASSERT_TRUE(q.hedra.answer.fraction);
+    EXPECT_NEAR(*q.hedra.answer.fraction, expected, 1e-9);
+  }
+  // The flat grazing miss: the trace runs out, hedra's miss is not judged
+  // and does not fail the command.
+  const QueryComparison& graze = report.queries[3];
+  EXPECT_TRUE(graze.reference.continuous->contact.exhausted);
+  EXPECT_EQ(graze.hedra.judgement.verdict, Verdict::no_reference);
+  EXPECT_EQ(compare_exit_code(report), 0);
+  const std::string text = format_compare_text(report);
+  EXPECT_NE(text.find("reference unavailable: the trace ran out of steps"), std::string::npos) << text;
+  EXPECT_NE(text.find("agrees with the exact reference on 3 of 4 queries; 1 not judged"), std::string::npos) << text;
+  const nlohmann::json json = nlohmann::json::parse(format_compare_json(report));
+  const nlohmann::json& first = json["queries"][0]["reference"]["first_contact"];
+  for (const char* key : {"available", "initially", "contact", "early", "late", "rate", "steps", "max_steps"})
+    EXPECT_TRUE(first.contains(key)) << key;
+  for (const char* key : {"hit", "fraction", "tunnelled", "false_hit", "fraction_error", "verdict", "distance"})
+    EXPECT_TRUE(json["queries"][1]["hedra"].contains(key)) << key;
+  EXPECT_EQ(json["queries"][1]["hedra"]["tunnelled"], false);
+  EXPECT_EQ(json["queries"][3]["reference"]["first_contact"]["available"], false);
+  EXPECT_EQ(json["summary"]["hedra_not_judged"], 1);
+  EXPECT_EQ(json["summary"]["hedra_agrees"], true);
+}
+
+TEST(CompareContinuous, ALateMissedOrFalseHitFailsHedra) {
+  const std::optional<LoadedScene> loaded = load(kSweepScene);
+  ASSERT_TRUE(loaded);
+  CompareOptions options;
+  options.with_peers = false;
+  CompareReport report = compare_scene(*loaded, options);
+  QueryComparison& q = report.queries[1];
+  auto rejudge = [&](bool hit, double fraction) {
+    q.hedra.answer.intersecting = hit;
+    q.hedra.answer.fraction = fraction;
+    q.hedra.judgement = judge(QueryType::toi, q.reference, q.hedra.answer);
+    return q.hedra.judgement;
+  };
+  // 1e-6 later than the contact (6e-6 along the motion, tolerance 1e-9 of the size): tunnelled.
+  Judgement j = rejudge(true, 0.25 + 1e-6);
+  EXPECT_EQ(j.verdict, Verdict::disagree);
+  ASSERT_TRUE(j.contact);
+  EXPECT_TRUE(j.contact->tunnelled);
+  EXPECT_FALSE(j.contact->through);
+  EXPECT_EQ(compare_exit_code(report), 1);
+  j = rejudge(false, 1.0);  // a miss of a certain contact: through
+  EXPECT_TRUE(j.contact->tunnelled && j.contact->through);
+  j = rejudge(true, 0.2);  // early by 0.3 along the motion: no tunnelling, but not within the tolerance
+  EXPECT_EQ(j.verdict, Verdict::disagree);
+  EXPECT_FALSE(j.contact->tunnelled);
+  EXPECT_NEAR(j.contact->error, 0.3 / std::sqrt(3.0), 1e-9);  // relative to the size: the box's reach
+  j = rejudge(true, 0.25);
+  EXPECT_EQ(j.verdict, Verdict::agree) << j.detail;
+  EXPECT_EQ(compare_exit_code(report), 0);
+  // A hit on the grazing miss is a false hit even though the trace ran out.
+  QueryComparison& graze = report.queries[3];
+  graze.hedra.answer.intersecting = true;
+  graze.hedra.answer.fraction = 0.5;
+  graze.hedra.judgement = judge(QueryType::cast, graze.reference, graze.hedra.answer);
+  EXPECT_EQ(graze.hedra.judgement.verdict, Verdict::disagree) << graze.hedra.judgement.detail;
+  EXPECT_TRUE(graze.hedra.judgement.contact && graze.hedra.judgement.contact->false_hit);
+  EXPECT_EQ(compare_exit_code(report), 1);
+}
+
 #if defined(HEDRA_COMPARE_WITH_PEERS)
 
 namespace peers = hedra::peers;
@@ -333,6 +433,65 @@ TEST(CompareScene, CrashingHangingUnsupportedAndWrongPeersAreReportedNotFailures
   const nlohmann::json json = nlohmann::json::parse(format_compare_json(report));
   EXPECT_EQ(json["queries"][0]["peers"][1]["verdict"], "failed");
   EXPECT_EQ(json["summary"]["verdicts"]["wrong"]["disagree"], 2);
+  EXPECT_EQ(json["summary"]["hedra_agrees"], true);
+}
+
+// Continuous peers: one aborting, one tunnelling (its hit 0.1 after the
+// first contact), one missing, one right (the closed form of kSweepScene).
+class FixedSweep final : public peers::PreparedSweep {
+ public:
+  enum class Kind { abort, late, miss, right };
+  explicit FixedSweep(Kind kind) : kind_(kind) {}
+  peers::ToiPeerResult query() override {
+    if (kind_ == Kind::abort) std::abort();
+    peers::ToiPeerResult r;
+    r.supported = r.ok = true;
+    r.status = "ok";
+    r.hit = kind_ != Kind::miss;
+    r.fraction = kind_ == Kind::late ? 0.35 : kind_ == Kind::right ? 0.25 : 1.0;
+    return r;
+  }
+
+ private:
+  Kind kind_;
+};
+
+template <FixedSweep::Kind kind>
+std::unique_ptr<peers::PreparedSweep> fixed_sweep(const peers::SweepPair&) {
+  return std::make_unique<FixedSweep>(kind);
+}
+
+TEST(CompareContinuous, ATunnellingPeerIsCountedNotAFailure) {
+  const std::optional<LoadedScene> loaded = load(kSweepScene);
+  ASSERT_TRUE(loaded);
+  const std::vector<peers::ContinuousPeerMethod> sweeps = {
+      {"sweep_aborts", "calls abort()", true, fixed_sweep<FixedSweep::Kind::abort>},
+      {"sweep_late", "0.1 after the contact", true, fixed_sweep<FixedSweep::Kind::late>},
+      {"sweep_misses", "no hit", true, fixed_sweep<FixedSweep::Kind::miss>},
+      {"sweep_right", "the closed form", true, fixed_sweep<FixedSweep::Kind::right>}};
+  const CompareReport report = compare_scene(*loaded, CompareOptions{}, fabricated_methods(), sweeps);
+  EXPECT_TRUE(report.peers_run);
+  for (std::size_t i = 0; i < 2; ++i) {  // the cast and the toi
+    SCOPED_TRACE("query " + std::to_string(i));
+    const QueryComparison& q = report.queries[i];
+    ASSERT_EQ(q.peers.size(), 4u) << "continuous queries go to the continuous peers only";
+    EXPECT_EQ(q.hedra.judgement.verdict, Verdict::agree) << q.hedra.judgement.detail;
+    EXPECT_EQ(q.peers[0].judgement.verdict, Verdict::failed);
+    EXPECT_EQ(q.peers[0].answer.status.rfind("crashed", 0), 0u) << q.peers[0].answer.status;
+    EXPECT_EQ(q.peers[1].judgement.verdict, Verdict::disagree);
+    ASSERT_TRUE(q.peers[1].judgement.contact);
+    EXPECT_TRUE(q.peers[1].judgement.contact->tunnelled);
+    EXPECT_TRUE(q.peers[1].judgement.contact->through);  // 0.6 along the motion
+    EXPECT_TRUE(q.peers[2].judgement.contact->tunnelled);
+    EXPECT_EQ(q.peers[3].judgement.verdict, Verdict::agree) << q.peers[3].judgement.detail;
+  }
+  EXPECT_EQ(compare_exit_code(report), 0) << "a tunnelling peer is reported, never a failure";
+  const std::string text = format_compare_text(report);
+  EXPECT_NE(text.find("sweep_late disagree: hit at 0.35: tunnelled"), std::string::npos) << text;
+  const nlohmann::json json = nlohmann::json::parse(format_compare_json(report));
+  EXPECT_EQ(json["queries"][0]["peers"][1]["tunnelled"], true);
+  // The cast and the toi (tunnelled), the ray (0.35: early by 0.2 along it), the flat graze (a false hit).
+  EXPECT_EQ(json["summary"]["verdicts"]["sweep_late"]["disagree"], 4);
   EXPECT_EQ(json["summary"]["hedra_agrees"], true);
 }
 

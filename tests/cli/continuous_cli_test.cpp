@@ -228,10 +228,12 @@ TEST_F(ContinuousCli, CheckComparesHitAndFraction) {
   EXPECT_NE(fail.out.find("3 queries in 1 scene: 1 passed, 2 failed"), std::string::npos) << fail.out;
 }
 
-TEST_F(ContinuousCli, CompareLeavesContinuousQueriesUnjudged) {
+TEST_F(ContinuousCli, CompareJudgesContinuousQueriesAgainstTheFirstContact) {
   const RunResult result = run({"compare", HEDRA_SOURCE_DIR "/scenes/continuous/sphere_sphere.json"});
   EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
-  EXPECT_NE(result.out.find("not compared"), std::string::npos) << result.out;
+  EXPECT_EQ(result.out.find("not compared"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("reference first contact in ["), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("hedra agrees with the exact reference on all"), std::string::npos) << result.out;
 }
 
 // ---- bad input: exit 2, stdout empty, file and JSON path named ------------

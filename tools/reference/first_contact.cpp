@@ -62,7 +62,11 @@ void trace_early(const collision::Shape& a, const Motion& ma, const collision::S
       out.early = out.late = 0.0;
       return;
     }
-    if (d.lower - s.target <= s.stop * size || k == s.max_steps) break;
+    if (d.lower - s.target <= s.stop * size) break;
+    if (k == s.max_steps) {
+      out.exhausted = true;
+      break;
+    }
     t += (d.lower - s.target) / out.rate;
     if (t > 1.0) return;  // separated all the way
   }
@@ -93,6 +97,58 @@ FirstContact exact_first_contact(const collision::Shape& a, const Motion& ma, co
   trace_early(a, ma, b, mb, settings, size, out);
   if (out.ok && out.contact && !out.initially && out.rate > 0.0) probe_late(a, ma, b, mb, settings, size, out);
   return out;
+}
+
+double contact_tolerance(double size, double far) {
+  return 1e-9 * size + 64.0 * std::numeric_limits<double>::epsilon() * far;
+}
+
+namespace {
+
+// Whether the pair, within the target from `late` on, gets deeper than the
+// tolerance (probes at late + doubling steps).
+bool deeper_than(const collision::Shape& a, const Motion& ma, const collision::Shape& b, const Motion& mb,
+                 const FirstContact& contact, double target, double size, double tolerance) {
+  for (double step = std::max(tolerance, 1e-14 * size) / contact.rate; contact.late + step <= 1.0; step *= 2.0) {
+    const DistanceBracket d = distance_at(a, ma, b, mb, contact.late + step);
+    if (d.ok && d.upper < target - tolerance) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+ContactVerdict judge_contact(const collision::Shape& a, const Motion& ma, const collision::Shape& b, const Motion& mb,
+                             const FirstContact& contact, double target, double size, double tolerance, bool hit,
+                             double fraction) {
+  ContactVerdict v;
+  const double L = contact.rate;
+  if (contact.initially) {
+    v.tunnelled = !hit || fraction * L > tolerance;
+    v.error = hit ? fraction * L / size : 0.0;
+    v.through = !hit || v.error > 1e-3;
+    return v;
+  }
+  const bool certain = contact.contact && std::isfinite(contact.late);
+  if (!hit) {
+    v.tunnelled = v.through = certain && deeper_than(a, ma, b, mb, contact, target, size, tolerance);
+    return v;
+  }
+  if (certain && (fraction - contact.late) * L > tolerance) {
+    v.tunnelled = true;
+    v.error = (fraction - contact.late) * L / size;
+    v.through = v.error > 1e-3;
+    return v;
+  }
+  if (contact.contact && fraction <= contact.early) {
+    v.error = (contact.early - fraction) * L / size;
+    return v;
+  }
+  if (certain) return v;  // within [early, late]
+  // After a touch's early bound, or no contact at all: the pair must be within the tolerance there.
+  const DistanceBracket d = distance_at(a, ma, b, mb, fraction);
+  v.false_hit = d.ok && d.lower > target + tolerance;
+  return v;
 }
 
 }  // namespace hedra::reference

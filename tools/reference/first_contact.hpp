@@ -67,9 +67,34 @@ struct FirstContact {
   double min_gap = std::numeric_limits<double>::infinity();  // smallest lower bound - target seen
   double rate = 0.0;                                         // distance_rate_bound
   int steps = 0;                                             // reference evaluations
+  bool exhausted = false;  // the trace ran out of max_steps short of the target: early is a lower bound only
 };
 
 FirstContact exact_first_contact(const collision::Shape& a, const Motion& ma, const collision::Shape& b,
                                  const Motion& mb, const FirstContactSettings& settings = {});
+
+// One continuous answer (hit, and the fraction in [0, 1] of the motion)
+// against the bracket, by one rule for every caller (`hedra bench
+// --continuous`, `hedra compare`). Distances along the motion are fraction
+// differences times contact.rate; `tolerance` is absolute, on distance:
+//   started within the target   tunnelled unless a hit at fraction * rate <= tolerance;
+//   a miss                      tunnelled when the pair certainly gets deeper than
+//                               the tolerance after the late end (a touch at most is
+//                               missed either way);
+//   a hit after late            tunnelled by (fraction - late) * rate > tolerance;
+//   a hit before early          early by error = (early - fraction) * rate / size;
+//   a hit after a touch's early bound, or without a contact: a false hit when the
+//   certified distance there is above target + tolerance.
+// through: tunnelled by a miss, or later than 1e-3 of the size.
+struct ContactVerdict {
+  bool tunnelled = false, false_hit = false, through = false;
+  double error = 0.0;  // distance along the motion / size (early answers and tunnelling)
+};
+// The default tolerance: 1e-9 of the size plus the coordinates' rounding
+// (64 eps times `far`, the largest coordinate of the motion).
+double contact_tolerance(double size, double far);
+ContactVerdict judge_contact(const collision::Shape& a, const Motion& ma, const collision::Shape& b, const Motion& mb,
+                             const FirstContact& contact, double target, double size, double tolerance, bool hit,
+                             double fraction);
 
 }  // namespace hedra::reference

@@ -245,52 +245,10 @@ Answer hedra_answer(const SweepCase& c, bool cast, int loops) {
 
 // ---- judging ---------------------------------------------------------------
 
-struct Verdict {
-  bool tunnelled = false, false_hit = false;
-  bool through = false;  // a miss of a certified contact, or later than 1e-3 of the size
-  double error = 0.0;    // distance along the motion / size
-};
-
-// Whether the pair, within the target from `late` on, gets deeper than tol
-// (probes at late + doubling steps).
-bool deeper_than(const SweepCase& c, double late, double tol) {
-  for (double step = std::max(tol, 1e-14 * c.size) / c.contact.rate; late + step <= 1.0; step *= 2.0) {
-    const reference::DistanceBracket d = reference::distance_at(c.a, c.ma, c.b, c.mb, late + step);
-    if (d.ok && d.upper < -tol) return true;
-  }
-  return false;
-}
-
-Verdict judge(const SweepCase& c, const Answer& a) {
-  Verdict v;
-  const reference::FirstContact& br = c.contact;
-  const double tol = 1e-9 * c.size + 64.0 * std::numeric_limits<double>::epsilon() * c.far;
-  const double L = br.rate;
-  if (br.initially) {
-    v.tunnelled = !a.hit || a.fraction * L > tol;
-    v.error = a.hit ? a.fraction * L / c.size : 0.0;
-    v.through = !a.hit || v.error > 1e-3;
-    return v;
-  }
-  if (!a.hit) {
-    v.tunnelled = v.through = br.contact && std::isfinite(br.late) && deeper_than(c, br.late, tol);
-    return v;
-  }
-  if (br.contact && std::isfinite(br.late) && (a.fraction - br.late) * L > tol) {
-    v.tunnelled = true;
-    v.error = (a.fraction - br.late) * L / c.size;
-    v.through = v.error > 1e-3;
-    return v;
-  }
-  if (br.contact && a.fraction <= br.early) {
-    v.error = (br.early - a.fraction) * L / c.size;
-    return v;
-  }
-  if (br.contact && std::isfinite(br.late)) return v;  // within [early, late]
-  // After a touch's early bound, or no contact at all: the pair must be within the tolerance there.
-  const reference::DistanceBracket d = reference::distance_at(c.a, c.ma, c.b, c.mb, a.fraction);
-  v.false_hit = d.ok && d.lower > tol;
-  return v;
+// The shared rule (first_contact.hpp: judge_contact), at 1e-9 of the size.
+reference::ContactVerdict judge(const SweepCase& c, const Answer& a) {
+  return reference::judge_contact(c.a, c.ma, c.b, c.mb, c.contact, 0.0, c.size,
+                                  reference::contact_tolerance(c.size, c.far), a.hit, a.fraction);
 }
 
 // ---- the run ---------------------------------------------------------------
@@ -354,7 +312,7 @@ ContinuousRow row_of(const std::string& family, const std::string& method, const
     ++row.answered;
     times.push_back(a.ns);
     row.hits += a.hit ? 1 : 0;
-    const Verdict v = judge(cases[i], a);
+    const reference::ContactVerdict v = judge(cases[i], a);
     row.tunnelled += v.tunnelled ? 1 : 0;
     row.through += v.through ? 1 : 0;
     row.false_hits += v.false_hit ? 1 : 0;

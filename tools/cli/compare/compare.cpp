@@ -63,13 +63,79 @@ std::string vector_text(const Eigen::Vector3d& v) {
 
 }  // namespace
 
-Judgement judge(QueryType type, const ReferenceAnswer& reference, const MethodAnswer& answer) {
+namespace {
+
+// A trace that ran out of steps certifies no contact before its early end
+// only: a hit is still judged by the certified distance where it is
+// reported (a false hit when farther than the target, the first contact when
+// within it before early); a miss, or a touch after early, is not judged.
+Judgement judge_partial_trace(const ReferenceAnswer& reference, bool hit, double fraction) {
+  const ReferenceAnswer::Continuous& c = *reference.continuous;
   Judgement j;
-  if (is_continuous(type)) {  // raycast, cast, toi: judged by `hedra check`, not here
-    j.verdict = Verdict::unsupported;
-    j.detail = std::string("continuous query (") + to_string(type) + "): not compared";
+  j.verdict = Verdict::no_reference;
+  j.detail = "reference unavailable: the trace ran out of steps";
+  if (!hit) return j;
+  const reference::DistanceBracket d = reference::distance_at(c.a, c.ma, c.b, c.mb, fraction);
+  if (!d.ok) return j;
+  const std::string said = "hit at " + shortest(fraction);
+  if (d.lower > c.target + reference.tolerance) {
+    j.verdict = Verdict::disagree;
+    j.contact = reference::ContactVerdict{false, true, false, 0.0};
+    j.detail = said + ": false hit (certified distance there >= " + number(d.lower) + ")";
+  } else if (fraction <= c.contact.early) {
+    j.verdict = Verdict::agree;
+    j.contact = reference::ContactVerdict{};
+    j.detail = said + " (within the target there, and no contact before it)";
+  }
+  return j;
+}
+
+// A continuous answer against the first contact (compare.hpp).
+Judgement judge_continuous(const ReferenceAnswer& reference, const MethodAnswer& answer) {
+  Judgement j;
+  const std::optional<ReferenceAnswer::Continuous>& c = reference.continuous;
+  if (!c || !c->contact.ok) {
+    j.verdict = Verdict::no_reference;
+    j.detail = !c ? "no reference" : "reference unavailable: " + c->contact.reason;
     return j;
   }
+  if (!answer.supported || !answer.ok) {
+    j.verdict = answer.supported ? Verdict::failed : Verdict::unsupported;
+    j.detail = answer.status;
+    return j;
+  }
+  const double fraction = c->fraction_scale > 0.0 ? answer.fraction.value_or(1.0) / c->fraction_scale : 0.0;
+  if (!c->available()) return judge_partial_trace(reference, answer.intersecting, fraction);
+  const reference::ContactVerdict v =
+      reference::judge_contact(c->a, c->ma, c->b, c->mb, c->contact, c->target, reference.pair_size,
+                               reference.tolerance, answer.intersecting, answer.intersecting ? fraction : 1.0);
+  j.contact = v;
+  j.distance_error = v.error * reference.pair_size;  // along the motion
+  const std::string said = std::string(answer.intersecting ? "hit at " + shortest(fraction) : "no hit");
+  const std::string along = number(v.error * reference.pair_size) + " along the motion";
+  if (v.tunnelled) {
+    j.verdict = Verdict::disagree;
+    j.detail = said + ": tunnelled (" +
+               (answer.intersecting ? "later than the first contact by " + along : "missed a certain contact") +
+               (v.through ? ", through" : "") + ")";
+  } else if (v.false_hit) {
+    j.verdict = Verdict::disagree;
+    j.detail = said + ": false hit (the pair is farther than the target there)";
+  } else if (v.error * reference.pair_size > reference.tolerance) {
+    j.verdict = Verdict::disagree;
+    j.detail = said + ": early by " + along + " > " + number(reference.tolerance);
+  } else {
+    j.verdict = Verdict::agree;
+    j.detail = said + " (error " + along + " <= " + number(reference.tolerance) + ")";
+  }
+  return j;
+}
+
+}  // namespace
+
+Judgement judge(QueryType type, const ReferenceAnswer& reference, const MethodAnswer& answer) {
+  if (is_continuous(type)) return judge_continuous(reference, answer);
+  Judgement j;
   if (!reference.exact.ok) {
     j.verdict = Verdict::no_reference;
     j.detail = "no reference: " + reference.exact.reason;
@@ -147,7 +213,65 @@ Judgement judge(QueryType type, const ReferenceAnswer& reference, const MethodAn
   return j;
 }
 
+namespace {
+
+reference::Motion motion_of(const BodySpec& body, bool rotate) {
+  reference::Motion m;
+  m.p0 = body.position;
+  m.p1 = body.end_position;
+  m.q0 = body.orientation;
+  m.q1 = rotate ? body.end_orientation : body.orientation;
+  return m;
+}
+
+// The first contact of a continuous query's motion (compare.hpp).
+ReferenceAnswer continuous_reference(const BuiltScene& built, std::size_t index) {
+  const Scene& scene = *built.scene;
+  const QuerySpec& query = scene.queries[index];
+  const BodySpec& body_a = scene.bodies[query.a];
+  const BodySpec& body_b = scene.bodies[query.b];
+  ReferenceAnswer::Continuous c;
+  c.a = *built.shapes[body_a.shape];
+  c.b = *built.shapes[body_b.shape];
+  double far = 0.0;
+  if (query.type == QueryType::raycast) {  // a point from the origin along the ray, against the still body
+    c.a = collision::Sphere{0.0, 0.0};
+    c.ma.p0 = query.origin;
+    c.ma.p1 = query.origin + query.max_fraction * query.direction;
+    c.mb = motion_of(body_a, false);
+    c.mb.p1 = c.mb.p0;
+    c.fraction_scale = query.max_fraction;
+    far = std::max(query.origin.cwiseAbs().maxCoeff(), c.ma.p1.cwiseAbs().maxCoeff());
+  } else {
+    const bool rotate = query.type == QueryType::toi;
+    c.ma = motion_of(body_a, rotate);
+    c.mb = motion_of(body_b, rotate);
+    c.target = query.target_distance;
+    far = std::max(c.ma.p1.cwiseAbs().maxCoeff(), c.mb.p1.cwiseAbs().maxCoeff());
+  }
+  far = std::max({far, c.ma.p0.cwiseAbs().maxCoeff(), c.mb.p0.cwiseAbs().maxCoeff()});
+  ReferenceAnswer r;
+  r.pair_size = std::max(reference::reach(c.a), reference::reach(c.b));
+  reference::FirstContactSettings settings;
+  settings.target = c.target;
+  settings.size = r.pair_size;
+  settings.max_steps = kContinuousReferenceSteps;
+  c.contact = reference::exact_first_contact(c.a, c.ma, c.b, c.mb, settings);
+  r.exact.ok = c.available();
+  r.exact.reason = c.contact.ok ? "the trace ran out of steps" : c.contact.reason;
+  const std::optional<Expectation>& expect = query.expect;
+  r.tolerance_from_scene = expect && expect->tolerance && c.contact.rate > 0.0;
+  r.tolerance = r.tolerance_from_scene ? *expect->tolerance * c.contact.rate / std::max(c.fraction_scale, 1e-300)
+                                       : reference::contact_tolerance(r.pair_size, far);
+  r.angle_tolerance = expect && expect->angle_tolerance ? *expect->angle_tolerance : kDefaultAngleTolerance;
+  r.continuous = std::move(c);
+  return r;
+}
+
+}  // namespace
+
 ReferenceAnswer reference_answer(const BuiltScene& built, std::size_t index) {
+  if (is_continuous(built.scene->queries[index].type)) return continuous_reference(built, index);
   const Scene& scene = *built.scene;
   const QuerySpec& query = scene.queries[index];
   const ShapeSpec& spec_a = scene.shapes[scene.bodies[query.a].shape];
@@ -198,6 +322,12 @@ MethodAnswer hedra_answer(const QueryOutcome& outcome) {
   m.point_a = outcome.point_a;
   m.point_b = outcome.point_b;
   m.time_ns = outcome.time_ns;
+  if (is_continuous(outcome.type)) {
+    m.description = "hedra (this build): raycast, shape_cast or time_of_impact";
+    m.intersecting = outcome.hit || outcome.initially_overlapping;
+    m.fraction = outcome.fraction;
+    m.distance.reset();  // a cast's distance at the hit is not what is judged
+  }
   return m;
 }
 
@@ -254,30 +384,58 @@ MethodAnswer peer_answer(const peers::PeerMethod& method, QueryType type, const 
   return m;
 }
 
-CompareReport compare_scene(const LoadedScene& loaded, const CompareOptions& options,
-                            const std::vector<peers::PeerMethod>& methods) {
-  CompareReport report = compare_hedra(loaded, options);
-  report.peers_built = true;
-  report.peers_run = options.with_peers && !methods.empty();
-  if (!report.peers_run) return report;
+MethodAnswer continuous_peer_answer(const peers::ContinuousPeerMethod& method, const peers::ToiPeerResult& result,
+                                    double fraction_scale) {
+  MethodAnswer m;
+  m.method = method.name;
+  m.description = method.description;
+  m.supported = result.supported;
+  m.ok = result.ok;
+  m.status = result.status;
+  m.time_ns = result.supported && std::isfinite(result.time_ns) ? result.time_ns : 0.0;
+  if (!result.supported || !result.ok) return m;
+  if (!std::isfinite(result.fraction)) {
+    m.ok = false;
+    m.status = "non_finite fraction";
+    return m;
+  }
+  m.intersecting = result.hit;
+  m.fraction = (result.hit ? result.fraction : 1.0) * fraction_scale;
+  return m;
+}
 
+namespace {
+
+// `once` called `repeat` times: the last answer, with the median time.
+template <typename Result, typename Once>
+Result median_timed(const Once& once, int repeat) {
+  std::vector<double> times;
+  Result result;
+  for (int r = 0; r < repeat; ++r) {
+    const Clock::time_point start = Clock::now();
+    Result answer = once();
+    times.push_back(elapsed_ns(start, Clock::now()));
+    result = std::move(answer);
+  }
+  result.time_ns = median(std::move(times));
+  return result;
+}
+
+// The discrete queries `which` asked of `methods`, one run_isolated batch.
+void run_discrete_peers(const LoadedScene& loaded, const CompareOptions& options,
+                        const std::vector<peers::PeerMethod>& methods, const std::vector<std::size_t>& which,
+                        CompareReport& report) {
   const Scene& scene = *loaded.scene;
   const BuiltScene& built = loaded.built;
   std::vector<peers::PeerPair> pairs;
-  for (const QuerySpec& query : scene.queries) {
+  for (const std::size_t i : which) {
+    const QuerySpec& query = scene.queries[i];
     pairs.push_back({*built.shapes[scene.bodies[query.a].shape], built.poses[query.a],
                      *built.shapes[scene.bodies[query.b].shape], built.poses[query.b]});
   }
   auto peer_query = [](QueryType type) {
-    switch (type) {
-      case QueryType::intersect:
-        return peers::PeerQuery::intersect;
-      case QueryType::distance:
-        return peers::PeerQuery::distance;
-      case QueryType::penetration:
-      case QueryType::contact:
-        break;
-    }
+    if (type == QueryType::intersect) return peers::PeerQuery::intersect;
+    if (type == QueryType::distance) return peers::PeerQuery::distance;
     return peers::PeerQuery::penetration;
   };
   const std::size_t method_count = methods.size();
@@ -286,32 +444,81 @@ CompareReport compare_scene(const LoadedScene& loaded, const CompareOptions& opt
   // (prepare) happens there too, since a peer may crash while converting.
   auto call = [&](std::size_t k) {
     const std::size_t qi = k / method_count;
-    const peers::PeerMethod& method = methods[k % method_count];
-    const std::unique_ptr<peers::PreparedPair> prepared = method.prepare(pairs[qi]);
-    const peers::PeerQuery query = peer_query(scene.queries[qi].type);
-    peers::PeerResult result;
-    std::vector<double> times;
-    for (int r = 0; r < repeat; ++r) {
-      const Clock::time_point start = Clock::now();
-      peers::PeerResult answer = prepared->query(query);
-      times.push_back(elapsed_ns(start, Clock::now()));
-      result = std::move(answer);
-    }
-    result.time_ns = median(std::move(times));
-    return result;
+    const std::unique_ptr<peers::PreparedPair> prepared = methods[k % method_count].prepare(pairs[qi]);
+    const peers::PeerQuery query = peer_query(scene.queries[which[qi]].type);
+    return median_timed<peers::PeerResult>([&] { return prepared->query(query); }, repeat);
   };
   peers::IsolationSettings isolation;
   isolation.timeout_seconds = options.peer_timeout_seconds;
-  const std::vector<peers::PeerResult> results =
-      peers::run_isolated(call, scene.queries.size() * method_count, isolation);
-
+  const std::vector<peers::PeerResult> results = peers::run_isolated(call, which.size() * method_count, isolation);
   for (std::size_t k = 0; k < results.size(); ++k) {
-    QueryComparison& q = report.queries[k / method_count];
+    QueryComparison& q = report.queries[which[k / method_count]];
     const QueryType type = scene.queries[q.index].type;
     q.peers.push_back(
         judged(type, q.reference, peer_answer(methods[k % method_count], type, results[k]), q.hedra.answer.normal));
   }
+}
+
+// The continuous queries `which` asked of `methods` on the reference's
+// motions (a ray: the point's sweep), one run_isolated batch. A cast with a
+// target distance is not posed: the peers' casts have none.
+void run_continuous_peers(const LoadedScene& loaded, const CompareOptions& options,
+                          const std::vector<peers::ContinuousPeerMethod>& methods,
+                          const std::vector<std::size_t>& which, CompareReport& report) {
+  const Scene& scene = *loaded.scene;
+  const std::size_t method_count = methods.size();
+  const int repeat = std::max(options.repeat, 1);
+  auto sweep_of = [](const reference::Motion& m) {
+    return collision::Sweep{collision::Pose::from_quaternion(m.q0, m.p0), collision::Pose::from_quaternion(m.q1, m.p1)};
+  };
+  std::vector<peers::SweepPair> pairs;
+  for (const std::size_t i : which) {
+    const ReferenceAnswer::Continuous& c = *report.queries[i].reference.continuous;
+    pairs.push_back({c.a, sweep_of(c.ma), c.b, sweep_of(c.mb)});
+  }
+  auto call = [&](std::size_t k) {
+    const std::size_t qi = k / method_count;
+    if (report.queries[which[qi]].reference.continuous->target > 0.0) {
+      peers::ToiPeerResult r;
+      r.status = "unsupported: no target distance in the peer's cast";
+      return r;
+    }
+    const std::unique_ptr<peers::PreparedSweep> prepared = methods[k % method_count].prepare(pairs[qi]);
+    return median_timed<peers::ToiPeerResult>([&] { return prepared->query(); }, repeat);
+  };
+  peers::IsolationSettings isolation;
+  isolation.timeout_seconds = options.peer_timeout_seconds;
+  const std::vector<peers::ToiPeerResult> results =
+      peers::run_isolated_toi(call, which.size() * method_count, isolation);
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    QueryComparison& q = report.queries[which[k / method_count]];
+    const MethodAnswer answer =
+        continuous_peer_answer(methods[k % method_count], results[k], q.reference.continuous->fraction_scale);
+    q.peers.push_back(judged(scene.queries[q.index].type, q.reference, answer, std::nullopt));
+  }
+}
+
+}  // namespace
+
+CompareReport compare_scene(const LoadedScene& loaded, const CompareOptions& options,
+                            const std::vector<peers::PeerMethod>& methods,
+                            const std::vector<peers::ContinuousPeerMethod>& continuous_methods) {
+  CompareReport report = compare_hedra(loaded, options);
+  report.peers_built = true;
+  report.peers_run = options.with_peers && (!methods.empty() || !continuous_methods.empty());
+  if (!report.peers_run) return report;
+  std::vector<std::size_t> discrete, continuous;
+  for (std::size_t i = 0; i < loaded.scene->queries.size(); ++i)
+    (is_continuous(loaded.scene->queries[i].type) ? continuous : discrete).push_back(i);
+  if (!discrete.empty() && !methods.empty()) run_discrete_peers(loaded, options, methods, discrete, report);
+  if (!continuous.empty() && !continuous_methods.empty())
+    run_continuous_peers(loaded, options, continuous_methods, continuous, report);
   return report;
+}
+
+CompareReport compare_scene(const LoadedScene& loaded, const CompareOptions& options,
+                            const std::vector<peers::PeerMethod>& methods) {
+  return compare_scene(loaded, options, methods, peers::continuous_peer_methods());
 }
 
 CompareReport compare_scene(const LoadedScene& loaded, const CompareOptions& options) {
@@ -329,11 +536,20 @@ CompareReport compare_scene(const LoadedScene& loaded, const CompareOptions& opt
 
 #endif
 
+namespace {
+
+// hedra fails a query when it does not agree, except where a continuous
+// reference was unavailable (not judged).
+bool hedra_fails(const QueryComparison& q) {
+  const Verdict v = q.hedra.judgement.verdict;
+  return v != Verdict::agree && !(v == Verdict::no_reference && q.reference.continuous);
+}
+
+}  // namespace
+
 int compare_exit_code(const CompareReport& report) {
   for (const QueryComparison& q : report.queries)
-    if (q.hedra.judgement.verdict != Verdict::agree &&
-        !(report.scene && is_continuous(report.scene->queries[q.index].type)))  // continuous: not judged here
-      return kExitCheckFailed;
+    if (hedra_fails(q)) return kExitCheckFailed;
   return kExitOk;
 }
 
@@ -394,15 +610,38 @@ std::string optional_number(const std::optional<double>& x) { return x ? number(
 
 void text_row(std::string& text, const JudgedAnswer& j, bool peer) {
   const MethodAnswer& a = j.answer;
-  const std::string distance = a.distance ? shortest(*a.distance) : "-";
+  const std::string distance = a.fraction ? shortest(*a.fraction) : a.distance ? shortest(*a.distance) : "-";
   char line[512];
-  std::snprintf(line, sizeof line, "  %-19s %-12s %-5s %-22s %-9s %-9s %-9s %-32s %-32s %9s\n", a.method.c_str(),
+  std::snprintf(line, sizeof line, "  %-21s %-12s %-5s %-22s %-9s %-9s %-9s %-32s %-32s %9s\n", a.method.c_str(),
                 to_string(j.judgement.verdict), a.supported && a.ok ? (a.intersecting ? "yes" : "no") : "-",
                 distance.c_str(), optional_number(j.judgement.distance_error).c_str(),
                 optional_number(j.judgement.normal_angle).c_str(),
                 peer ? optional_number(j.normal_angle_to_hedra).c_str() : "", short_vector(a.point_a).c_str(),
                 short_vector(a.point_b).c_str(), (a.time_ns > 0.0 ? format_time(a.time_ns) : std::string("-")).c_str());
   text += line;
+}
+
+// The first contact in words, in the query's fraction units.
+std::string continuous_reference_text(const ReferenceAnswer& r) {
+  const ReferenceAnswer::Continuous& c = *r.continuous;
+  const reference::FirstContact& f = c.contact;
+  if (!f.ok) return "unavailable: " + f.reason + ": not judged\n";
+  if (f.exhausted)
+    return "unavailable: the trace ran out of steps (" + std::to_string(f.steps) + " steps, no contact before " +
+           shortest(f.early * c.fraction_scale) + "): misses not judged, hits by the distance where reported\n";
+  std::string text = "first contact ";
+  if (f.initially) {
+    text += "at 0 (within the target at the start)";
+  } else if (!f.contact) {
+    text += "none (separated all the way, smallest gap " + number(f.min_gap) + ")";
+  } else if (std::isfinite(f.late)) {
+    text += "in [" + shortest(f.early * c.fraction_scale) + ", " + shortest(f.late * c.fraction_scale) + "]";
+  } else {
+    text += "a touch at most, from " + shortest(f.early * c.fraction_scale);
+  }
+  return text + " (" + std::to_string(f.steps) + " steps, rate " + number(f.rate) + ", size " + number(r.pair_size) +
+         ", tolerance " + number(r.tolerance) + " along the motion" +
+         (r.tolerance_from_scene ? " from the scene" : "") + ")\n";
 }
 
 }  // namespace
@@ -424,7 +663,10 @@ std::string format_compare_text(const CompareReport& report) {
     const reference::ExactResult& e = q.reference.exact;
     text += "\n[" + std::to_string(q.index) + "] " + scene.bodies[spec.a].name + "-" + scene.bodies[spec.b].name + " " +
             to_string(spec.type) + ": reference ";
-    if (e.ok) {
+    const bool continuous = q.reference.continuous.has_value();
+    if (continuous) {
+      text += continuous_reference_text(q.reference);
+    } else if (e.ok) {
       const std::optional<bool> hit = q.reference.intersecting();
       text += "distance " + shortest(e.distance) + " (error bound " + number(e.error_bound) + ", tolerance " +
               number(q.reference.tolerance) + (q.reference.tolerance_from_scene ? " from the scene" : "") +
@@ -434,14 +676,16 @@ std::string format_compare_text(const CompareReport& report) {
       text += "failed: " + e.reason + "\n";
     }
     char header[512];
-    std::snprintf(header, sizeof header, "  %-19s %-12s %-5s %-22s %-9s %-9s %-9s %-32s %-32s %9s\n", "method",
-                  "verdict", "hit", "distance", "error", "angle", "to hedra", "point_a", "point_b", "time");
+    std::snprintf(header, sizeof header, "  %-21s %-12s %-5s %-22s %-9s %-9s %-9s %-32s %-32s %9s\n", "method",
+                  "verdict", "hit", continuous ? "fraction" : "distance", "error", "angle", "to hedra", "point_a",
+                  "point_b", "time");
     text += header;
     text_row(text, q.hedra, false);
     for (const JudgedAnswer& p : q.peers) text_row(text, p, true);
     auto explain = [&](const JudgedAnswer& j) {
       const Verdict v = j.judgement.verdict;
-      if (v != Verdict::agree) text += "    " + j.answer.method + " " + to_string(v) + ": " + j.judgement.detail + "\n";
+      if (v == Verdict::agree || (v == Verdict::no_reference && continuous)) return;  // said on the reference line
+      text += "    " + j.answer.method + " " + to_string(v) + ": " + j.judgement.detail + "\n";
     };
     explain(q.hedra);
     for (const JudgedAnswer& p : q.peers) explain(p);
@@ -452,15 +696,21 @@ std::string format_compare_text(const CompareReport& report) {
   text += "\nverdicts per method (agree / disagree / partial / unsupported / failed / no_reference):\n";
   for (const Tally& t : tally(report)) {
     char line[160];
-    std::snprintf(line, sizeof line, "  %-19s %3d / %3d / %3d / %3d / %3d / %3d\n", t.method.c_str(), t.counts[0],
+    std::snprintf(line, sizeof line, "  %-21s %3d / %3d / %3d / %3d / %3d / %3d\n", t.method.c_str(), t.counts[0],
                   t.counts[1], t.counts[2], t.counts[3], t.counts[4], t.counts[5]);
     text += line;
   }
   std::string failing;
   for (const QueryComparison& q : report.queries)
-    if (q.hedra.judgement.verdict != Verdict::agree) failing += (failing.empty() ? "" : " ") + std::to_string(q.index);
+    if (hedra_fails(q)) failing += (failing.empty() ? "" : " ") + std::to_string(q.index);
   const std::size_t n = report.queries.size();
-  if (failing.empty()) {
+  std::size_t not_judged = 0;
+  for (const QueryComparison& q : report.queries) not_judged += q.hedra.judgement.verdict == Verdict::no_reference;
+  if (failing.empty() && not_judged > 0) {
+    text += "hedra agrees with the exact reference on " + std::to_string(n - not_judged) + " of " + std::to_string(n) +
+            (n == 1 ? " query" : " queries") + "; " + std::to_string(not_judged) +
+            " not judged (the continuous reference unavailable)\n";
+  } else if (failing.empty()) {
     text += "hedra agrees with the exact reference on all " + std::to_string(n) + (n == 1 ? " query\n" : " queries\n");
   } else {
     text += "hedra does NOT agree with the exact reference on queries " + failing + " (of " + std::to_string(n) + ")\n";
@@ -501,6 +751,15 @@ Json json_answer(const JudgedAnswer& j, bool peer) {
   r["detail"] = j.judgement.detail;
   r["distance_error"] = json_number(j.judgement.distance_error);
   r["normal_angle"] = json_number(j.judgement.normal_angle);
+  if (a.fraction || j.judgement.contact) {  // continuous queries
+    r["hit"] = a.supported && a.ok ? Json(a.intersecting) : Json(nullptr);
+    r["fraction"] = json_number(a.fraction);
+    const std::optional<reference::ContactVerdict>& v = j.judgement.contact;
+    r["tunnelled"] = v ? Json(v->tunnelled) : Json(nullptr);
+    r["through"] = v ? Json(v->through) : Json(nullptr);
+    r["false_hit"] = v ? Json(v->false_hit) : Json(nullptr);
+    r["fraction_error"] = v ? json_number(v->error) : Json(nullptr);  // along the motion / size
+  }
   return r;
 }
 
@@ -525,7 +784,22 @@ std::string format_compare_json(const CompareReport& report) {
     r["type"] = to_string(spec.type);
     Json ref;
     ref["ok"] = e.ok;
-    if (!e.ok) {
+    if (const std::optional<ReferenceAnswer::Continuous>& c = q.reference.continuous) {
+      const reference::FirstContact& f = c->contact;
+      Json first;
+      first["available"] = c->available();
+      first["reason"] = c->available() ? Json(nullptr) : Json(e.reason);
+      first["initially"] = f.initially;
+      first["contact"] = f.contact;
+      first["early"] = f.contact ? json_number(f.early * c->fraction_scale) : Json(nullptr);
+      first["late"] = f.contact ? json_number(f.late * c->fraction_scale) : Json(nullptr);  // null: a touch at most
+      first["min_gap"] = json_number(f.min_gap);
+      first["rate"] = json_number(f.rate);
+      first["steps"] = f.steps;
+      first["max_steps"] = kContinuousReferenceSteps;
+      first["target"] = c->target;
+      ref["first_contact"] = std::move(first);
+    } else if (!e.ok) {
       ref["reason"] = e.reason;
     } else {
       const std::optional<bool> hit = q.reference.intersecting();
@@ -557,6 +831,9 @@ std::string format_compare_json(const CompareReport& report) {
   Json summary;
   summary["queries"] = report.queries.size();
   summary["hedra_agrees"] = compare_exit_code(report) == kExitOk;
+  int not_judged = 0;
+  for (const QueryComparison& q : report.queries) not_judged += q.hedra.judgement.verdict == Verdict::no_reference;
+  summary["hedra_not_judged"] = not_judged;
   Json verdicts;
   for (const Tally& t : tally(report)) {
     Json counts;

@@ -29,14 +29,30 @@
 //   peers      called through run_isolated (one fork per batch: a peer that
 //              crashes or hangs fails that call only, never the tool).
 //
+// Continuous queries (raycast, cast, toi) are judged against the exact
+// first contact instead (reference::exact_first_contact, traced along the
+// motion with a budget of kContinuousReferenceSteps evaluations; a trace that
+// runs out is "reference unavailable": no_reference, not judged). A ray is a
+// point (a sphere of radius 0) moving from the origin to origin + max_fraction
+// direction; a cast moves the bodies at their start orientations; a toi
+// follows the full motion. Every answer (hit, fraction) goes through
+// reference::judge_contact, the rule of `hedra bench --continuous`, with
+// tolerance = the scene's expect.tolerance (on fraction) times the rate bound
+// when given, else reference::contact_tolerance (1e-9 of the size, the larger
+// reach of the two shapes): tunnelled (a miss of a certain contact, or a hit
+// later than it) and false hits disagree, and so does a hit earlier than the
+// bracket by more than the tolerance. The peers' continuous adapters
+// (tools/peers/continuous.hpp) answer under the same isolation.
+//
 // Exit code (compare_exit_code): 0 when hedra agrees with the reference on
 // every query, 1 when it does not on some (or the reference could not be
-// computed: nothing verified); the peers' verdicts are reported, never
+// computed for a discrete query: nothing verified); the peers' verdicts are reported, never
 // failures. Bad input (2) is decided before anything runs.
 #pragma once
 
 #include <Eigen/Core>
 #include <exact_reference.hpp>
+#include <first_contact.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +60,7 @@
 #include "scene/scene_runner.hpp"
 
 #if defined(HEDRA_COMPARE_WITH_PEERS)
+#  include <continuous.hpp>
 #  include <peers.hpp>
 #endif
 
@@ -61,7 +78,21 @@ struct ReferenceAnswer {
   bool tolerance_from_scene = false;
   // intersecting as the reference decides it: empty when |sd| <= tolerance.
   std::optional<bool> intersecting() const;
+  // Continuous queries: the first contact of the motion (tolerance is then on
+  // distance along the motion, size the larger reach).
+  struct Continuous {
+    collision::Shape a, b;
+    reference::Motion ma, mb;
+    double target = 0.0;
+    double fraction_scale = 1.0;  // the query's fraction = t * this (raycast: max_fraction)
+    reference::FirstContact contact;
+    bool available() const { return contact.ok && !contact.exhausted; }
+  };
+  std::optional<Continuous> continuous;
 };
+
+// The budget of the continuous reference's trace (exact distance evaluations).
+constexpr int kContinuousReferenceSteps = 5000;
 
 // What one method said about one query, whoever the method is.
 struct MethodAnswer {
@@ -75,14 +106,16 @@ struct MethodAnswer {
   std::optional<Eigen::Vector3d> normal;
   std::optional<Eigen::Vector3d> point_a;
   std::optional<Eigen::Vector3d> point_b;
+  std::optional<double> fraction;  // continuous queries: in the query's units (1 or max_fraction without a hit)
   double time_ns = 0.0;
 };
 
 struct Judgement {
   Verdict verdict = Verdict::no_reference;
-  std::string detail;                    // why, in words ("distance 0.3 (error 0.1 > 2e-9)")
-  std::optional<double> distance_error;  // |d - expected| when a distance was compared
-  std::optional<double> normal_angle;    // angle to the reference's normal (rad) when compared
+  std::string detail;                                // why, in words ("distance 0.3 (error 0.1 > 2e-9)")
+  std::optional<double> distance_error;              // |d - expected| when a distance was compared
+  std::optional<double> normal_angle;                // angle to the reference's normal (rad) when compared
+  std::optional<reference::ContactVerdict> contact;  // continuous queries: the shared rule's verdict
 };
 
 // One answer against the reference for a query of `type` (the rules above).
@@ -128,8 +161,17 @@ MethodAnswer hedra_answer(const QueryOutcome& outcome);
 // A peer's result as a MethodAnswer for a query of `type`.
 MethodAnswer peer_answer(const peers::PeerMethod& method, QueryType type, const peers::PeerResult& result);
 
+// A continuous peer's result as a MethodAnswer (fraction in the query's units).
+MethodAnswer continuous_peer_answer(const peers::ContinuousPeerMethod& method, const peers::ToiPeerResult& result,
+                                    double fraction_scale);
+
 // Runs every query with hedra and with `methods` (peer_methods(), or others
-// in tests), all peer calls in one run_isolated batch.
+// in tests) for the discrete queries and `continuous_methods`
+// (continuous_peer_methods(), or others) for the continuous ones, all peer
+// calls in run_isolated batches.
+CompareReport compare_scene(const LoadedScene& loaded, const CompareOptions& options,
+                            const std::vector<peers::PeerMethod>& methods,
+                            const std::vector<peers::ContinuousPeerMethod>& continuous_methods);
 CompareReport compare_scene(const LoadedScene& loaded, const CompareOptions& options,
                             const std::vector<peers::PeerMethod>& methods);
 #endif
@@ -138,7 +180,8 @@ CompareReport compare_scene(const LoadedScene& loaded, const CompareOptions& opt
 // peers are not built or options.with_peers is false).
 CompareReport compare_scene(const LoadedScene& loaded, const CompareOptions& options);
 
-// 0 when hedra agrees with the reference on every query, else 1.
+// 0 when hedra agrees with the reference on every query (a continuous query
+// whose reference is unavailable is not judged), else 1.
 int compare_exit_code(const CompareReport& report);
 
 std::string format_compare_text(const CompareReport& report);
