@@ -1,4 +1,4 @@
-// Coincident and deep penetration on every pair of shape types (issue 3):
+// Coincident and deep penetration on every pair of shape types:
 // {sphere, box, capsule, cylinder, cone, hull}, each also with a margin,
 // placed coincident (same centre, several relative rotations, among them
 // coaxial ones where the depth is the same over a whole circle of

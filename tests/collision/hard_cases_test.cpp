@@ -1,4 +1,4 @@
-// Hard-case families of issue 3 not covered elsewhere, against the exact reference
+// Hard-case families not covered elsewhere, against the exact reference
 // (qhull on conv{a_i - b_j}) where one exists:
 //   * 10 000-vertex hulls (points on an ellipsoid) against a small box and a
 //     tetrahedron: distance and penetration depth (the Minkowski difference

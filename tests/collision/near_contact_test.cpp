@@ -1,5 +1,5 @@
 // Near contact with nearly parallel features: the regression family of GJK
-// stopping early (issue 3). Root cause: GJK took v = sum lambda_i w_i, whose
+// stopping early. Root cause: GJK took v = sum lambda_i w_i, whose
 // absolute rounding (eps times the simplex's size) turned v's direction by
 // ~1e-7 rad once |v| ~ 1e-9; against faces tilted by about as much, the next
 // support point was a "duplicate" and the loop stopped with the duality gap
