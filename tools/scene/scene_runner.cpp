@@ -93,12 +93,9 @@ QueryOutcome run_distance(const collision::Shape& a, const collision::Pose& pa, 
   return out;
 }
 
-QueryOutcome run_penetration(const collision::Shape& a, const collision::Pose& pa, const collision::Shape& b,
-                             const collision::Pose& pb, int repeat) {
-  QueryOutcome out;
-  out.type = QueryType::penetration;
-  const collision::PenetrationResult r =
-      timed(repeat, out.time_ns, [&] { return collision::penetration(a, pa, b, pb); });
+// A penetration() answer as the query's outcome (the penetration query's,
+// and a contact query's whose manifold found the pair apart).
+void set_penetration(QueryOutcome& out, const collision::PenetrationResult& r) {
   out.status = collision::to_string(r.status);
   out.intersecting = r.intersecting;
   out.gjk_iterations = r.gjk_iterations;
@@ -110,10 +107,17 @@ QueryOutcome run_penetration(const collision::Shape& a, const collision::Pose& p
   out.epa_ran = r.epa_iterations > 0;
   out.error_bound = std::isfinite(r.error_bound) ? r.error_bound : 0.0;
   // Outputs are finite (best so far) for every status but these two.
-  const bool defined = r.status != collision::Status::degenerate && r.status != collision::Status::invalid_input;
-  if (defined) {
+  if (r.status != collision::Status::degenerate && r.status != collision::Status::invalid_input)
     set_geometry(out, r.distance, r.normal, r.point_a, r.point_b, true);
-  }
+}
+
+QueryOutcome run_penetration(const collision::Shape& a, const collision::Pose& pa, const collision::Shape& b,
+                             const collision::Pose& pb, int repeat) {
+  QueryOutcome out;
+  out.type = QueryType::penetration;
+  const collision::PenetrationResult r =
+      timed(repeat, out.time_ns, [&] { return collision::penetration(a, pa, b, pb); });
+  set_penetration(out, r);
   return out;
 }
 
@@ -144,17 +148,7 @@ QueryOutcome run_contact(const collision::Shape& a, const collision::Pose& pa, c
   });
   out.manifold_ran = true;
   if (r.exact) {
-    const collision::PenetrationResult& e = *r.exact;
-    out.status = collision::to_string(e.status);
-    out.intersecting = e.intersecting;
-    out.gjk_iterations = e.gjk_iterations;
-    out.epa_iterations = e.epa_iterations;
-    out.support_calls = e.support_calls;
-    out.epa_ran = e.epa_iterations > 0;
-    out.error_bound = std::isfinite(e.error_bound) ? e.error_bound : 0.0;
-    if (e.status != collision::Status::degenerate && e.status != collision::Status::invalid_input) {
-      set_geometry(out, e.distance, e.normal, e.point_a, e.point_b, true);
-    }
+    set_penetration(out, *r.exact);
     return out;
   }
   const collision::ContactResult& m = r.manifold;

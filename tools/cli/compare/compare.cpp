@@ -361,16 +361,28 @@ CompareReport compare_hedra(const LoadedScene& loaded, const CompareOptions& opt
 
 #if defined(HEDRA_COMPARE_WITH_PEERS)
 
-MethodAnswer peer_answer(const peers::PeerMethod& method, QueryType type, const peers::PeerResult& result) {
+namespace {
+
+// What every peer answer says first: who answered, whether it could pose the
+// question and answered, its word, its time (none for a question it could not
+// pose).
+template <class Method, class Result>
+MethodAnswer peer_answer_header(const Method& method, const Result& result) {
   MethodAnswer m;
   m.method = method.name;
   m.description = method.description;
   m.supported = result.supported;
   m.ok = result.ok;
   m.status = result.status;
-  m.intersecting = result.intersecting;
-  // No time for a question the peer could not pose.
   m.time_ns = result.supported && std::isfinite(result.time_ns) ? result.time_ns : 0.0;
+  return m;
+}
+
+}  // namespace
+
+MethodAnswer peer_answer(const peers::PeerMethod& method, QueryType type, const peers::PeerResult& result) {
+  MethodAnswer m = peer_answer_header(method, result);
+  m.intersecting = result.intersecting;
   if (!result.supported || !result.ok || !result.has_distance || type == QueryType::intersect) return m;
   if (std::isfinite(result.distance)) m.distance = result.distance;
   // A distance query defines no normal or witnesses between overlapping
@@ -386,13 +398,7 @@ MethodAnswer peer_answer(const peers::PeerMethod& method, QueryType type, const 
 
 MethodAnswer continuous_peer_answer(const peers::ContinuousPeerMethod& method, const peers::ToiPeerResult& result,
                                     double fraction_scale) {
-  MethodAnswer m;
-  m.method = method.name;
-  m.description = method.description;
-  m.supported = result.supported;
-  m.ok = result.ok;
-  m.status = result.status;
-  m.time_ns = result.supported && std::isfinite(result.time_ns) ? result.time_ns : 0.0;
+  MethodAnswer m = peer_answer_header(method, result);
   if (!result.supported || !result.ok) return m;
   if (!std::isfinite(result.fraction)) {
     m.ok = false;
