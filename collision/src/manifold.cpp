@@ -495,186 +495,346 @@ void flip(ContactResult& r) {
 
 ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
                            const ContactSettings& settings);
+ContactResult penetration_point(const PenetrationResult& p, double scale, const ContactSettings& settings);
 
 Index face_along(const SatPolytope& poly, const Vec& n, double cos_tol);
+
+// A polytope pair as the manifold builder sees it, in A's core frame.
+struct PolytopePair {
+  SatPolytope pa, pb;
+  RelativePose rel;
+  double ra = 0.0, rb = 0.0;  // margins
+  double scale = 0.0;         // the pair's size
+  double keep = 0.0;          // largest separation that yields points (rounded surfaces)
+  double core_contact = 0.0;  // the same between the cores
+  double shape_scale = 0.0;   // max bounding radius, as single_point measures it
+  Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
+  Placement placed_b;
+};
 
 // Rounded polytopes whose cores are apart (the margins overlap or lie
 // within the contact distance): SAT's axes only bound the cores' distance,
 // so the manifold is built around the exact normal of the cores' closest
-// features (penetration(), GJK on the cores). When that normal is a face
-// normal of A or of B (closest features face-vertex, face-edge or
-// face-face), that face is the reference and the points are the clipped
-// incident face with exact rounded depths; otherwise the closest features
-// are a vertex or an edge on each side and the contact is penetration()'s
-// single point.
-ContactResult rounded_cores_apart(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
-                                  const SatPolytope& pa, const SatPolytope& pb, const RelativePose& rel, double ra,
-                                  double rb, double keep, const WorldFrame& world, ContactCache* cache,
-                                  const ContactSettings& settings, const ContactStats& stats) {
-  ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
-  single.stats = stats;
+// features (`single`, penetration()'s answer, GJK on the cores). When that
+// normal is a face normal of A or of B (closest features face-vertex,
+// face-edge or face-face), that face is the reference and the points are
+// the clipped incident face with exact rounded depths; otherwise the
+// closest features are a vertex or an edge on each side and the contact is
+// penetration()'s single point.
+ContactResult rounded_cores_apart(const PolytopePair& pp, const Pose& pose_a, const WorldFrame& world,
+                                  const ContactResult& single, const ContactStats& stats) {
   if (single.count == 0 || single.status != Status::ok) return single;
   const Vec n = pose_a.rotation.transpose() * single.normal;  // A's core frame, A -> B
   const double cos_exact = std::cos(kExactNormalAngle);
-  const Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
-  const Placement placed_b{rel.rotation, rel.translation};
-  const double scale = scale_of(pa, pb) + std::max(ra, rb);
-  const double tol = geometric_tolerance(scale);
+  const double tol = geometric_tolerance(pp.scale);
+  const double ra = pp.ra, rb = pp.rb;
   CandidateList candidates;
   ContactResult out;
   out.stats = stats;
   Vec normal;
-  const Index fa = face_along(pa, n, cos_exact);
+  const Index fa = face_along(pp.pa, n, cos_exact);
   if (fa != hull::kInvalidIndex) {
     out.path = ContactPath::face_a;
-    normal = pa.plane(fa).normal;
-    if (!face_contact(pa, identity, pb, placed_b, fa, true, tol, keep + ra + rb, candidates, out.stats.clipped_points))
+    normal = pp.pa.plane(fa).normal;
+    if (!face_contact(pp.pa, pp.identity, pp.pb, pp.placed_b, fa, true, tol, pp.keep + ra + rb, candidates,
+                      out.stats.clipped_points))
       return single;
-    round_candidates(candidates, normal, true, ra, pb, placed_b, incident_face(pb, placed_b, normal), rb);
+    round_candidates(candidates, normal, true, ra, pp.pb, pp.placed_b, incident_face(pp.pb, pp.placed_b, normal), rb);
   } else {
-    const Index fb = face_along(pb, rel.rotation.transpose() * -n, cos_exact);
+    const Index fb = face_along(pp.pb, pp.rel.rotation.transpose() * -n, cos_exact);
     if (fb == hull::kInvalidIndex) return single;
     out.path = ContactPath::face_b;
-    const Vec nb = rel.rotation * pb.plane(fb).normal;  // out of B, A's frame
+    const Vec nb = pp.rel.rotation * pp.pb.plane(fb).normal;  // out of B, A's frame
     normal = -nb;
-    if (!face_contact(pb, placed_b, pa, identity, fb, false, tol, keep + ra + rb, candidates, out.stats.clipped_points))
+    if (!face_contact(pp.pb, pp.placed_b, pp.pa, pp.identity, fb, false, tol, pp.keep + ra + rb, candidates,
+                      out.stats.clipped_points))
       return single;
-    round_candidates(candidates, nb, false, rb, pa, identity, incident_face(pa, identity, nb), ra);
+    round_candidates(candidates, nb, false, rb, pp.pa, pp.identity, incident_face(pp.pa, pp.identity, nb), ra);
   }
-  emit(candidates, normal, 0.0, 0.0, keep, world, out);
+  emit(candidates, normal, 0.0, 0.0, pp.keep, world, out);
   if (out.count == 0) return single;
   return out;
 }
 
-template <class SA, class SB>
-ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
-                               const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
-  ContactResult out;
-  BoxPolytopeStorage storage_a, storage_b;
-  SatPolytope pa, pb;
-  polytope_view(a, storage_a, pa);
-  polytope_view(b, storage_b, pb);
-  const RelativePose rel = relative_pose(pose_a, core_offset(a), pose_b, core_offset(b));
-  const double ra = core_radius(a), rb = core_radius(b);
-  const WorldFrame world{pose_a, core_offset(a)};
-  const double scale = scale_of(pa, pb) + std::max(ra, rb);
-  const double keep = keep_below(settings, scale);
-  const double core_contact = keep + ra + rb;
-  SatSettings sat;
-  sat.parallel_tolerance = settings.parallel_tolerance;
-  sat.early_out = core_contact;
-
-  auto separated = [&](const SatAxis& axis) {
-    out.path = ContactPath::separated;
-    out.distance = axis.separation - ra - rb;
-    out.normal = world.direction(axis.normal);
-    out.intersecting = false;
-    return out;
-  };
-  if (cache && (cache->axis == SatAxisKind::face_a || cache->axis == SatAxisKind::face_b)) {
-    const bool of_a = cache->axis == SatAxisKind::face_a;
-    const std::size_t faces = of_a ? pa.mesh->face_count() : pb.mesh->face_count();
-    if (cache->feature < faces) {
-      const SatAxis axis = sat_face_axis(pa, pb, rel, of_a, cache->feature);
-      if (axis.separation > core_contact) {
-        out.stats.cache_hit = true;
-        return separated(axis);
-      }
+// The edge of `poly` at its support vertex in n (poly's frame) most nearly
+// perpendicular to n: where an edge-edge contact along n lies. Named by the
+// smaller of its half-edges (as SAT names edges).
+Index edge_across(const SatPolytope& poly, const Vec& n) {
+  const hull::HalfEdgeMesh& m = *poly.mesh;
+  const Index v = poly.support(n);
+  Index best = hull::kInvalidIndex;
+  double best_slope = std::numeric_limits<double>::infinity();
+  for (const Index e : m.vertex_outgoing(v)) {
+    const Vec d = poly.vertex(m.destination(e)) - poly.vertex(v);
+    const double slope = std::abs(n.dot(d)) / d.norm();
+    if (slope < best_slope) {
+      best_slope = slope;
+      best = e;
     }
   }
-  const SatResult s = sat_query(pa, pb, rel, sat);
-  out.stats.edge_pairs = s.edge_pairs;
-  auto remember = [&](const SatAxis& axis) {
-    if (!cache) return;
-    cache->axis = axis.kind;
-    cache->feature = axis.kind == SatAxisKind::face_a ? axis.feature_a : axis.feature_b;
-  };
-  if (s.separated) {
-    // The axis that proved it is the best one seen last.
-    const SatAxis* axis = &s.face_a;
-    if (s.face_b.separation > axis->separation) axis = &s.face_b;
-    if (s.edge.separation > axis->separation) axis = &s.edge;
-    remember(*axis);
-    return separated(*axis);
+  return best == hull::kInvalidIndex ? best : std::min(best, m.twin(best));
+}
+
+// The best face axis among the faces around A's support vertex in n (of_a),
+// or B's in -n (n: A's frame, A -> B): the faces whose normals surround the
+// exact normal. Separations as SAT measures them (exact supports).
+SatAxis face_near(const PolytopePair& pp, const Vec& n, bool of_a) {
+  const SatPolytope& poly = of_a ? pp.pa : pp.pb;
+  const Vec dir = of_a ? n : Vec(-(pp.rel.rotation.transpose() * n));
+  SatAxis best;
+  for (const Index f : poly.mesh->vertex_faces(poly.support(dir))) {
+    const SatAxis axis = sat_face_axis(pp.pa, pp.pb, pp.rel, of_a, f);
+    if (axis.separation > best.separation) best = axis;
   }
-  // Face axes first, then edges, each challenger beating the incumbent by the bias.
+  return best;
+}
+
+// The three candidate axes of a pair that is not separated beyond the
+// contact distance: the best face of A, of B, and the edge axis.
+struct AxisCandidates {
+  SatAxis face_a, face_b, edge;
+};
+
+// Face axes first, then the edge axis, each challenger beating the
+// incumbent by the bias. The incumbent face is A's, or B's when the pair's
+// cache says B's same face was the reference last frame: without that
+// memory a slide that carries the two faces' separations across the bias
+// swaps the reference face although the same faces touch, and renames
+// every point.
+SatAxis choose_axis(const AxisCandidates& c, const ContactCache* cache, const ContactSettings& settings, double scale) {
   const auto bias = [&](double sep) { return settings.relative_bias * std::abs(sep) + settings.absolute_bias * scale; };
-  // The incumbent face is A's, or B's when the pair's cache says B's best
-  // face was the reference last frame: without that memory a slide that
-  // carries the two faces' separations across the bias swaps the reference
-  // face although the same faces touch, and renames every point.
-  const bool keep_b = cache && cache->axis == SatAxisKind::face_b && cache->feature == s.face_b.feature_b;
-  const SatAxis* incumbent = keep_b ? &s.face_b : &s.face_a;
-  const SatAxis* challenger = keep_b ? &s.face_a : &s.face_b;
+  const bool keep_b = cache && cache->axis == SatAxisKind::face_b && cache->feature == c.face_b.feature_b;
+  const SatAxis* incumbent = keep_b ? &c.face_b : &c.face_a;
+  const SatAxis* challenger = keep_b ? &c.face_a : &c.face_b;
   const SatAxis* best = incumbent;
   if (challenger->separation > incumbent->separation + bias(incumbent->separation)) best = challenger;
-  if (s.edge.kind == SatAxisKind::edge && s.edge.separation > best->separation + bias(best->separation)) best = &s.edge;
-  remember(*best);
+  if (c.edge.kind == SatAxisKind::edge && c.edge.separation > best->separation + bias(best->separation)) best = &c.edge;
+  return *best;
+}
 
+void remember(ContactCache* cache, const SatAxis& axis) {
+  if (!cache) return;
+  cache->axis = axis.kind;
+  cache->feature = axis.kind == SatAxisKind::face_a ? axis.feature_a : axis.feature_b;
+}
+
+// What the last frame learned: a pair separated along its cached face axis
+// by more than the contact distance is answered from that axis alone (the
+// answer a cold query gives: separated, with a lower bound on the distance).
+bool cached_separation(const PolytopePair& pp, const ContactCache* cache, SatAxis& axis) {
+  if (!cache || (cache->axis != SatAxisKind::face_a && cache->axis != SatAxisKind::face_b)) return false;
+  const bool of_a = cache->axis == SatAxisKind::face_a;
+  const std::size_t faces = of_a ? pp.pa.mesh->face_count() : pp.pb.mesh->face_count();
+  if (cache->feature >= faces) return false;
+  axis = sat_face_axis(pp.pa, pp.pb, pp.rel, of_a, cache->feature);
+  return axis.separation > pp.core_contact;
+}
+
+ContactResult separated_along(const PolytopePair& pp, const WorldFrame& world, const SatAxis& axis,
+                              const ContactStats& stats) {
+  ContactResult out;
+  out.stats = stats;
+  out.path = ContactPath::separated;
+  out.distance = axis.separation - pp.ra - pp.rb;
+  out.normal = world.direction(axis.normal);
+  out.intersecting = false;
+  return out;
+}
+
+// The face or edge contact along the chosen axis (see manifold.hpp);
+// `exact` is penetration()'s answer when the axis came from it (else null:
+// computed here when a fallback needs it).
+ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
+                             const PolytopePair& pp, const WorldFrame& world, const SatAxis& best,
+                             const ContactResult* exact, ContactCache* cache, const ContactSettings& settings,
+                             const ContactStats& stats) {
+  const auto fallback = [&] {
+    ContactResult single = exact ? *exact : single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+    single.stats = stats;
+    return single;
+  };
+  ContactResult out;
+  out.stats = stats;
   CandidateList candidates;
-  const Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
-  const Placement placed_b{rel.rotation, rel.translation};
-  const double tol = geometric_tolerance(scale);
+  const double ra = pp.ra, rb = pp.rb;
+  const double tol = geometric_tolerance(pp.scale);
   const bool rounded = ra + rb > 0.0;
-  if (rounded && best->separation > settings.penetration.touching_band * scale)
-    return rounded_cores_apart(shape_a, pose_a, shape_b, pose_b, pa, pb, rel, ra, rb, keep, world, cache, settings,
-                               out.stats);
-  Vec normal = best->normal;
+  Vec normal = best.normal;
   bool built = false;
-  if (best->kind == SatAxisKind::face_a) {
+  if (best.kind == SatAxisKind::face_a) {
     out.path = ContactPath::face_a;
-    built = face_contact(pa, identity, pb, placed_b, best->feature_a, true, tol, core_contact, candidates,
+    built = face_contact(pp.pa, pp.identity, pp.pb, pp.placed_b, best.feature_a, true, tol, pp.core_contact, candidates,
                          out.stats.clipped_points);
     if (built && rounded)
-      round_candidates(candidates, normal, true, ra, pb, placed_b, incident_face(pb, placed_b, normal), rb);
-  } else if (best->kind == SatAxisKind::face_b) {
+      round_candidates(candidates, normal, true, ra, pp.pb, pp.placed_b, incident_face(pp.pb, pp.placed_b, normal), rb);
+  } else if (best.kind == SatAxisKind::face_b) {
     out.path = ContactPath::face_b;
-    built = face_contact(pb, placed_b, pa, identity, best->feature_b, false, tol, core_contact, candidates,
-                         out.stats.clipped_points);
+    built = face_contact(pp.pb, pp.placed_b, pp.pa, pp.identity, best.feature_b, false, tol, pp.core_contact,
+                         candidates, out.stats.clipped_points);
     if (built && rounded)
-      round_candidates(candidates, -normal, false, rb, pa, identity, incident_face(pa, identity, -normal), ra);
+      round_candidates(candidates, -normal, false, rb, pp.pa, pp.identity, incident_face(pp.pa, pp.identity, -normal),
+                       ra);
+  } else if (exact) {
+    // The exact axis is no face axis: penetration()'s witnesses, named by
+    // the edges they lie on.
+    ContactResult r = *exact;
+    r.stats = stats;
+    if (r.count == 1 && best.feature_a != hull::kInvalidIndex && best.feature_b != hull::kInvalidIndex) {
+      r.path = ContactPath::edge;
+      r.points[0].id.kind = FeatureKind::edge;
+      r.points[0].id.reference = best.feature_a;
+      r.points[0].id.incident = best.feature_b;
+    }
+    return r;
   } else {
     out.path = ContactPath::edge;
-    const hull::HalfEdgeMesh& ma = *pa.mesh;
-    const hull::HalfEdgeMesh& mb = *pb.mesh;
-    const Index ea = best->feature_a, eb = best->feature_b;
-    const Vec a0 = pa.vertex(ma.origin(ea)), a1 = pa.vertex(ma.destination(ea));
-    const Vec b0 = placed_b.point(pb.vertex(mb.origin(eb))), b1 = placed_b.point(pb.vertex(mb.destination(eb)));
+    const hull::HalfEdgeMesh& ma = *pp.pa.mesh;
+    const hull::HalfEdgeMesh& mb = *pp.pb.mesh;
+    const Index ea = best.feature_a, eb = best.feature_b;
+    const Vec a0 = pp.pa.vertex(ma.origin(ea)), a1 = pp.pa.vertex(ma.destination(ea));
+    const Vec b0 = pp.placed_b.point(pp.pb.vertex(mb.origin(eb)));
+    const Vec b1 = pp.placed_b.point(pp.pb.vertex(mb.destination(eb)));
     Vec on_a, on_b;
     closest_segment_points(a0, a1 - a0, b0, b1 - b0, on_a, on_b);
     FeatureId id;
     id.kind = FeatureKind::edge;
     id.reference = ea;
     id.incident = eb;
-    candidates.push(on_a, on_b, best->separation, id);
+    candidates.push(on_a, on_b, best.separation, id);
     built = true;
   }
-  const bool shifted = rounded && best->kind != SatAxisKind::edge;  // round_candidates moved them already
+  const bool shifted = rounded && best.kind != SatAxisKind::edge;  // round_candidates moved them already
   double deepest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < candidates.size; ++i) deepest = std::min(deepest, candidates[i].separation);
-  const double axis_separation = best->separation - (shifted ? ra + rb : 0.0);
+  const double axis_separation = best.separation - (shifted ? ra + rb : 0.0);
   // The incident shape's deepest vertex clipped away by the reference face's
   // side planes (deep contacts near an edge): the kept points would be
   // shallower than the axis by more than the bias allows.
-  const bool deepest_clipped = deepest > axis_separation + bias(best->separation);
-  if (!built || candidates.size == 0 || deepest_clipped) {
-    // A face too large for the fixed buffers, an incident face entirely
-    // outside the reference face's side planes, or its deepest vertex
-    // outside them (deep contacts near an edge): one point from
-    // penetration().
-    ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
-    single.stats = out.stats;
-    return single;
-  }
-  emit(candidates, normal, shifted ? 0.0 : ra, shifted ? 0.0 : rb, keep, world, out);
+  const double bias = settings.relative_bias * std::abs(best.separation) + settings.absolute_bias * pp.scale;
+  const bool deepest_clipped = deepest > axis_separation + bias;
+  // A face too large for the fixed buffers, an incident face entirely
+  // outside the reference face's side planes, or its deepest vertex outside
+  // them: one point from penetration().
+  if (!built || candidates.size == 0 || deepest_clipped) return fallback();
+  emit(candidates, normal, shifted ? 0.0 : ra, shifted ? 0.0 : rb, pp.keep, world, out);
   if (out.count == 0) {
     // Nothing within the contact distance after clipping (a gap along the
     // chosen axis beyond it): report the axis.
-    out.distance = best->separation - ra - rb;
+    out.distance = best.separation - ra - rb;
     out.normal = world.direction(normal);
     out.intersecting = false;
   }
   return out;
+}
+
+// SAT's axes: the full separating-axis test (sat.hpp).
+ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
+                             const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
+                             const ContactSettings& settings) {
+  SatSettings sat;
+  sat.parallel_tolerance = settings.parallel_tolerance;
+  sat.early_out = pp.core_contact;
+  const SatResult s = sat_query(pp.pa, pp.pb, pp.rel, sat);
+  ContactStats stats;
+  stats.edge_pairs = s.edge_pairs;
+  if (s.separated) {
+    // The axis that proved it is the best one seen last.
+    const SatAxis* axis = &s.face_a;
+    if (s.face_b.separation > axis->separation) axis = &s.face_b;
+    if (s.edge.separation > axis->separation) axis = &s.edge;
+    remember(cache, *axis);
+    return separated_along(pp, world, *axis, stats);
+  }
+  const SatAxis best = choose_axis({s.face_a, s.face_b, s.edge}, cache, settings, pp.scale);
+  remember(cache, best);
+  if (pp.ra + pp.rb > 0.0 && best.separation > settings.penetration.touching_band * pp.scale) {
+    const ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+    return rounded_cores_apart(pp, pose_a, world, single, stats);
+  }
+  return build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, nullptr, cache, settings, stats);
+}
+
+// The exact normal's axes: penetration() (GJK, EPA when the cores overlap)
+// gives the exact separation s* and normal n; the face candidates are the
+// faces around each side's support feature along n (their separations
+// measured as SAT does), and the edge axis is n itself with s*, named by the
+// edges at the support vertices most nearly perpendicular to n. The same
+// bias then chooses among them. SAT's largest separation is s*, so this is
+// SAT's answer up to which face wins within the bias, without SAT's
+// E_A x E_B edge pairs.
+ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
+                                const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
+                                const ContactSettings& settings) {
+  const PenetrationResult p =
+      penetration(shape_a, pose_a, shape_b, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
+  const ContactResult exact = penetration_point(p, pp.shape_scale, settings);
+  if (p.status == Status::degenerate || p.status == Status::invalid_input) return exact;
+  const Vec n = pose_a.rotation.transpose() * p.normal;  // A's core frame, A -> B
+  if (exact.count == 0) {
+    // Separated beyond the contact distance: with a cache, remember a face
+    // that separates (the next frame's early out), else nothing.
+    if (cache) {
+      const SatAxis face_a = face_near(pp, n, true), face_b = face_near(pp, n, false);
+      const SatAxis& face = face_b.separation > face_a.separation ? face_b : face_a;
+      remember(cache, face.separation > pp.core_contact ? face : SatAxis{});
+    }
+    return exact;
+  }
+  AxisCandidates c;
+  c.face_a = face_near(pp, n, true);
+  c.face_b = face_near(pp, n, false);
+  const double s_exact = p.distance + pp.ra + pp.rb;  // between the cores
+  c.edge.kind = SatAxisKind::edge;
+  c.edge.separation = s_exact;
+  c.edge.normal = n;
+  c.edge.feature_a = edge_across(pp.pa, n);
+  c.edge.feature_b = edge_across(pp.pb, -(pp.rel.rotation.transpose() * n));
+  const SatAxis best = choose_axis(c, cache, settings, pp.scale);
+  remember(cache, best);
+  if (pp.ra + pp.rb > 0.0 && s_exact > settings.penetration.touching_band * pp.scale)
+    return rounded_cores_apart(pp, pose_a, world, exact, ContactStats{});
+  return build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, &exact, cache, settings, ContactStats{});
+}
+
+// SAT's edge loop tests E_A x E_B edge pairs; the exact normal costs
+// penetration() and a few face measurements. Which one runs.
+bool use_sat(const PolytopePair& pp, const ContactSettings& settings) {
+  switch (settings.axis_search) {
+    case PolytopeAxisSearch::sat:
+      return true;
+    case PolytopeAxisSearch::exact_normal:
+      return false;
+    case PolytopeAxisSearch::automatic:
+      break;
+  }
+  const double pairs = static_cast<double>(pp.pa.mesh->edge_count()) * static_cast<double>(pp.pb.mesh->edge_count());
+  return pairs <= settings.max_sat_edge_pairs;
+}
+
+template <class SA, class SB>
+ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
+                               const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
+  BoxPolytopeStorage storage_a, storage_b;
+  PolytopePair pp;
+  polytope_view(a, storage_a, pp.pa);
+  polytope_view(b, storage_b, pp.pb);
+  pp.rel = relative_pose(pose_a, core_offset(a), pose_b, core_offset(b));
+  pp.placed_b = {pp.rel.rotation, pp.rel.translation};
+  pp.ra = core_radius(a);
+  pp.rb = core_radius(b);
+  pp.scale = scale_of(pp.pa, pp.pb) + std::max(pp.ra, pp.rb);
+  pp.keep = keep_below(settings, pp.scale);
+  pp.core_contact = pp.keep + pp.ra + pp.rb;
+  pp.shape_scale = std::max(bounding_radius(shape_a), bounding_radius(shape_b));
+  const WorldFrame world{pose_a, core_offset(a)};
+  SatAxis axis;
+  if (cached_separation(pp, cache, axis)) {
+    ContactStats stats;
+    stats.cache_hit = true;
+    return separated_along(pp, world, axis, stats);
+  }
+  if (use_sat(pp, settings)) return contact_by_sat(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings);
+  return contact_by_normal(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings);
 }
 
 // ---- curved shapes against a polytope -------------------------------------
@@ -793,8 +953,13 @@ void cap_on_face(const SatPolytope& poly, Index f, const Vec& c, const Vec& cn, 
 // The world result from penetration(): one point.
 ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
                            const ContactSettings& settings) {
-  ContactResult out;
   const PenetrationResult p = penetration(a, pose_a, b, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
+  return penetration_point(p, std::max(bounding_radius(a), bounding_radius(b)), settings);
+}
+
+// penetration()'s answer as a one-point contact (scale: the larger bounding radius).
+ContactResult penetration_point(const PenetrationResult& p, double scale, const ContactSettings& settings) {
+  ContactResult out;
   out.status = p.status;
   out.path = ContactPath::single_point;
   if (p.status == Status::degenerate || p.status == Status::invalid_input) return out;
@@ -803,7 +968,6 @@ ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, c
   out.point_a = p.point_a;
   out.point_b = p.point_b;
   out.intersecting = p.distance <= 0.0;
-  const double scale = std::max(bounding_radius(a), bounding_radius(b));
   if (p.distance <= keep_below(settings, scale)) {
     out.count = 1;
     out.points[0].point = 0.5 * (p.point_a + p.point_b);

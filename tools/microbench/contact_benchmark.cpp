@@ -22,6 +22,10 @@
 // them later in btPersistentManifold); hedra's answer includes the reduction
 // to at most four points.
 //
+// Variants: hedra (the default axis search), hedra_sat and
+// hedra_exact_normal (ContactSettings::axis_search forced), penetration
+// (penetration() on the same pairs: contact()'s yardstick).
+//
 // Counter `points`: mean number of contact points per query.
 //
 // Run: build/bin/contact_benchmark --benchmark_repetitions=5
@@ -114,22 +118,38 @@ std::vector<Family> make_families() {
   return out;
 }
 
-void register_hedra(const Family& f, bool cached) {
-  benchmark::RegisterBenchmark(
-      ("contact/" + f.name + (cached ? "/hedra_cached" : "/hedra")).c_str(), [&f, cached](benchmark::State& state) {
-        std::vector<ContactCache> caches(f.pairs.size());
-        std::size_t i = 0;
-        long points = 0, queries = 0;
-        for (auto _ : state) {
-          const Pair& p = f.pairs[i];
-          const ContactResult r = contact(p.a, p.pose_a, p.b, p.pose_b, cached ? &caches[i] : nullptr);
-          benchmark::DoNotOptimize(r);
-          points += r.count;
-          ++queries;
-          i = i + 1 == f.pairs.size() ? 0 : i + 1;
-        }
-        state.counters["points"] = static_cast<double>(points) / std::max(queries, 1L);
-      });
+void register_hedra(const Family& f, bool cached, const char* suffix = "",
+                    PolytopeAxisSearch search = PolytopeAxisSearch::automatic) {
+  ContactSettings settings;
+  settings.axis_search = search;
+  benchmark::RegisterBenchmark(("contact/" + f.name + (cached ? "/hedra_cached" : "/hedra") + suffix).c_str(),
+                               [&f, cached, settings](benchmark::State& state) {
+                                 std::vector<ContactCache> caches(f.pairs.size());
+                                 std::size_t i = 0;
+                                 long points = 0, queries = 0;
+                                 for (auto _ : state) {
+                                   const Pair& p = f.pairs[i];
+                                   const ContactResult r =
+                                       contact(p.a, p.pose_a, p.b, p.pose_b, cached ? &caches[i] : nullptr, settings);
+                                   benchmark::DoNotOptimize(r);
+                                   points += r.count;
+                                   ++queries;
+                                   i = i + 1 == f.pairs.size() ? 0 : i + 1;
+                                 }
+                                 state.counters["points"] = static_cast<double>(points) / std::max(queries, 1L);
+                               });
+}
+
+// penetration() on the same pairs: the yardstick of contact()'s cost.
+void register_penetration(const Family& f) {
+  benchmark::RegisterBenchmark(("contact/" + f.name + "/penetration").c_str(), [&f](benchmark::State& state) {
+    std::size_t i = 0;
+    for (auto _ : state) {
+      const Pair& p = f.pairs[i];
+      benchmark::DoNotOptimize(penetration(p.a, p.pose_a, p.b, p.pose_b));
+      i = i + 1 == f.pairs.size() ? 0 : i + 1;
+    }
+  });
 }
 
 #ifdef HEDRA_WITH_PEERS
@@ -168,6 +188,9 @@ int main(int argc, char** argv) {
   static const std::vector<Family> families = make_families();
   for (const Family& f : families) {
     register_hedra(f, false);
+    register_hedra(f, false, "_sat", PolytopeAxisSearch::sat);
+    register_hedra(f, false, "_exact_normal", PolytopeAxisSearch::exact_normal);
+    register_penetration(f);
     if (f.name.find("separated") != std::string::npos || f.name == "box_resting") register_hedra(f, true);
 #ifdef HEDRA_WITH_PEERS
     register_bullet(f, true);

@@ -128,6 +128,13 @@ struct ContactPoint {
 
 inline constexpr int kMaxContactPoints = 4;
 
+// How a polytope pair's contact axis is found (see the top of the file).
+enum class PolytopeAxisSearch {
+  automatic,     // sat when the edge counts' product is at most max_sat_edge_pairs
+  sat,           // the full separating-axis test
+  exact_normal,  // penetration()'s exact normal, faces around its support features
+};
+
 struct ContactSettings {
   // Speculative margin (world length): pairs closer than this return their
   // points with negative depth; 0 reports touching and overlapping pairs only.
@@ -144,6 +151,11 @@ struct ContactSettings {
   double face_angle_tolerance = 1e-3;
   // SAT: edge pairs closer to parallel than this (sine) are skipped.
   double parallel_tolerance = 0.005;
+  // Polytope pairs: SAT or the exact normal. SAT's edge loop visits
+  // E_A x E_B edge pairs; above this product the exact normal is cheaper
+  // (two boxes: 144 pairs, SAT in closed form).
+  PolytopeAxisSearch axis_search = PolytopeAxisSearch::automatic;
+  double max_sat_edge_pairs = 150.0;
   PenetrationSettings penetration;  // for the paths that use penetration()
 };
 
