@@ -107,7 +107,84 @@ class Unsupported final : public PreparedManifold {
   std::string why_;
 };
 
+// The moving-pair entry points of the same modules.
+struct MovingModule {
+  HedraBulletMovingPrepare prepare = nullptr;
+  HedraBulletMovingQuery query = nullptr;
+  HedraBulletMovingRelease release = nullptr;
+};
+
+const MovingModule* moving_module(bool double_precision) {
+  static const auto load_moving = [](const char* env_name, const char* built_path) {
+    MovingModule m;
+    const char* path = std::getenv(env_name);
+    if (!path || !*path) path = built_path;
+    if (void* handle = ::dlopen(path, RTLD_NOW | RTLD_LOCAL)) {
+      m.prepare = reinterpret_cast<HedraBulletMovingPrepare>(::dlsym(handle, "hedra_bullet_moving_prepare"));
+      m.query = reinterpret_cast<HedraBulletMovingQuery>(::dlsym(handle, "hedra_bullet_moving_query"));
+      m.release = reinterpret_cast<HedraBulletMovingRelease>(::dlsym(handle, "hedra_bullet_moving_release"));
+    }
+    return m;
+  };
+  static const MovingModule f32 = load_moving("HEDRA_PEER_BULLET_F32_MODULE", HEDRA_PEER_BULLET_F32_MODULE);
+  static const MovingModule f64 = load_moving("HEDRA_PEER_BULLET_F64_MODULE", HEDRA_PEER_BULLET_F64_MODULE);
+  const MovingModule& m = double_precision ? f64 : f32;
+  return m.prepare && m.query && m.release ? &m : nullptr;
+}
+
+class Moving final : public MovingPair {
+ public:
+  Moving(const MovingModule& m, void* handle, const collision::Shape& a, const collision::Shape& b)
+      : module_(m), handle_(handle), a_(a), b_(b) {}
+  ~Moving() override { module_.release(handle_); }
+  Moving(const Moving&) = delete;
+  Moving& operator=(const Moving&) = delete;
+
+  PeerResult query(const collision::Pose& pose_a, const collision::Pose& pose_b, bool warm) override {
+    double pa[12], pb[12];
+    pack(a_, pose_a, pa);
+    pack(b_, pose_b, pb);
+    HedraBulletResult raw{};
+    module_.query(handle_, pa, pb, warm ? 1 : 0, &raw);
+    PeerResult r;
+    r.supported = true;
+    r.ok = raw.ok != 0;
+    r.intersecting = raw.intersecting != 0;
+    r.has_distance = raw.has_distance != 0;
+    r.distance = raw.distance;
+    r.normal = Eigen::Vector3d(raw.normal[0], raw.normal[1], raw.normal[2]);
+    r.point_a = Eigen::Vector3d(raw.point_a[0], raw.point_a[1], raw.point_a[2]);
+    r.point_b = Eigen::Vector3d(raw.point_b[0], raw.point_b[1], raw.point_b[2]);
+    r.status = raw.status;
+    return r;
+  }
+
+ private:
+  // Row-major rotation, then the position of the shape's (hull's) origin.
+  static void pack(const collision::Shape& shape, const collision::Pose& pose, double* out) {
+    Eigen::Vector3d origin = pose.translation;
+    if (const auto* poly = std::get_if<collision::Polyhedron>(&shape)) origin = pose.apply(poly->hull->offset());
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) out[3 * i + j] = pose.rotation(i, j);
+    for (int k = 0; k < 3; ++k) out[9 + k] = origin[k];
+  }
+  const MovingModule& module_;
+  void* handle_;
+  collision::Shape a_, b_;
+};
+
 }  // namespace
+
+std::unique_ptr<MovingPair> prepare_bullet_moving(const collision::Shape& a, const collision::Shape& b,
+                                                  bool double_precision) {
+  const MovingModule* m = moving_module(double_precision);
+  if (!m) return nullptr;
+  std::vector<double> points_a, points_b;
+  const HedraBulletShape sa = describe(a, collision::Pose::identity(), points_a);
+  const HedraBulletShape sb = describe(b, collision::Pose::identity(), points_b);
+  if (sa.kind < 0 || sb.kind < 0) return nullptr;
+  return std::make_unique<Moving>(*m, m->prepare(&sa, &sb), a, b);
+}
 
 std::unique_ptr<PreparedManifold> prepare_bullet_manifold(const PeerPair& pair, bool double_precision) {
   const ManifoldModule& m = module(double_precision);

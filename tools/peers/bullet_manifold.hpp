@@ -39,4 +39,19 @@ class PreparedManifold {
 // The pair prepared once (Bullet shapes with their polyhedral features).
 std::unique_ptr<PreparedManifold> prepare_bullet_manifold(const PeerPair& pair, bool double_precision);
 
+// A pair moving along a trajectory, answered by one btGjkPairDetector kept
+// across frames (its cached separating axis is Bullet's warm start):
+// penetration along hedra's conventions (normal from A toward B, distance
+// < 0 overlapping). Any shape the Bullet adapter knows.
+class MovingPair {
+ public:
+  virtual ~MovingPair() = default;
+  // warm = false resets the cached axis first (a cold query).
+  virtual PeerResult query(const collision::Pose& pose_a, const collision::Pose& pose_b, bool warm) = 0;
+};
+
+// Null when the module cannot be loaded or a shape is not supported.
+std::unique_ptr<MovingPair> prepare_bullet_moving(const collision::Shape& a, const collision::Shape& b,
+                                                  bool double_precision);
+
 }  // namespace hedra::peers

@@ -191,9 +191,62 @@ const btConvexPolyhedron* polyhedron_of(const btConvexShape* s) {
   return static_cast<const btPolyhedralConvexShape*>(s)->getConvexPolyhedron();
 }
 
+// A pair detector kept across frames (see bullet_module.h).
+struct PreparedMoving {
+  std::unique_ptr<btConvexShape> a, b;
+  btVoronoiSimplexSolver simplex;
+  btGjkEpaPenetrationDepthSolver epa;
+  std::unique_ptr<btGjkPairDetector> gjk;
+};
+
+btTransform transform_of(const double* pose) {
+  const auto c = [&](int i) { return static_cast<btScalar>(pose[i]); };
+  return btTransform(btMatrix3x3(c(0), c(1), c(2), c(3), c(4), c(5), c(6), c(7), c(8)), btVector3(c(9), c(10), c(11)));
+}
+
 }  // namespace
 
 extern "C" {
+
+__attribute__((visibility("default"))) void* hedra_bullet_moving_prepare(const HedraBulletShape* a,
+                                                                         const HedraBulletShape* b) {
+  auto* p = new PreparedMoving;
+  p->a = make_shape(*a);
+  p->b = make_shape(*b);
+  p->gjk = std::make_unique<btGjkPairDetector>(p->a.get(), p->b.get(), &p->simplex, &p->epa);
+  return p;
+}
+
+__attribute__((visibility("default"))) void hedra_bullet_moving_query(void* prepared, const double* pose_a,
+                                                                      const double* pose_b, int warm,
+                                                                      HedraBulletResult* out) {
+  *out = HedraBulletResult{};
+  out->distance = NAN;
+  auto& p = *static_cast<PreparedMoving*>(prepared);
+  if (!warm) p.gjk->setCachedSeparatingAxis(btVector3(0, 1, 0));
+  btGjkPairDetector::ClosestPointInput input;
+  input.m_transformA = transform_of(pose_a);
+  input.m_transformB = transform_of(pose_b);
+  btPointCollector collector;
+  p.gjk->getClosestPoints(input, collector, nullptr);
+  if (!collector.m_hasResult) {
+    std::snprintf(out->status, sizeof(out->status), "btGjkPairDetector: no result");
+    return;
+  }
+  const double d = static_cast<double>(collector.m_distance);
+  const btVector3 pb = collector.m_pointInWorld;
+  out->intersecting = d <= 0.0;
+  out->has_distance = 1;
+  out->distance = d;
+  store(-collector.m_normalOnBInWorld, out->normal);
+  store(pb + collector.m_normalOnBInWorld * collector.m_distance, out->point_a);
+  store(pb, out->point_b);
+  finish(out);
+}
+
+__attribute__((visibility("default"))) void hedra_bullet_moving_release(void* prepared) {
+  delete static_cast<PreparedMoving*>(prepared);
+}
 
 __attribute__((visibility("default"))) void* hedra_bullet_prepare(const HedraBulletShape* a, const HedraBulletShape* b,
                                                                   int method) {

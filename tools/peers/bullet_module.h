@@ -63,6 +63,17 @@ typedef void* (*HedraBulletManifoldPrepare)(const HedraBulletShape* a, const Hed
 typedef void (*HedraBulletManifoldQuery)(void* prepared, double max_distance, HedraBulletContacts* out);
 typedef void (*HedraBulletManifoldRelease)(void* prepared);
 
+// A btGjkPairDetector kept across frames, as btConvexConvexAlgorithm keeps
+// one per pair: its cached separating axis carries over from one query to
+// the next (warm), or is reset to Bullet's default (0, 1, 0) first (cold).
+// pose_a, pose_b: 12 doubles each, the row-major world rotation then the
+// world position of the shape's (hull's) origin. The answer as
+// hedra_bullet_query's penetration query gives it.
+typedef void* (*HedraBulletMovingPrepare)(const HedraBulletShape* a, const HedraBulletShape* b);
+typedef void (*HedraBulletMovingQuery)(void* prepared, const double* pose_a, const double* pose_b, int warm,
+                                       HedraBulletResult* out);
+typedef void (*HedraBulletMovingRelease)(void* prepared);
+
 // Time of impact over a step: shapes at their start poses (a, b) and the
 // end poses (rotation and translation of a_end, b_end). method: 0 =
 // btGjkConvexCast, 1 = btSubsimplexConvexCast (both translation only),
