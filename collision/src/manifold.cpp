@@ -827,14 +827,24 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   pp.core_contact = pp.keep + pp.ra + pp.rb;
   pp.shape_scale = std::max(bounding_radius(shape_a), bounding_radius(shape_b));
   const WorldFrame world{pose_a, core_offset(a)};
+  if (cache && pp.pa.poly && cache->support_a < pp.pa.mesh->vertex_count()) pp.pa.hint = cache->support_a;
+  if (cache && pp.pb.poly && cache->support_b < pp.pb.mesh->vertex_count()) pp.pb.hint = cache->support_b;
+  const auto stored = [&](ContactResult r) {
+    if (cache) {
+      cache->support_a = pp.pa.hint;
+      cache->support_b = pp.pb.hint;
+    }
+    return r;
+  };
   SatAxis axis;
   if (cached_separation(pp, cache, axis)) {
     ContactStats stats;
     stats.cache_hit = true;
-    return separated_along(pp, world, axis, stats);
+    return stored(separated_along(pp, world, axis, stats));
   }
-  if (use_sat(pp, settings)) return contact_by_sat(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings);
-  return contact_by_normal(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings);
+  if (use_sat(pp, settings))
+    return stored(contact_by_sat(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings));
+  return stored(contact_by_normal(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings));
 }
 
 // ---- curved shapes against a polytope -------------------------------------

@@ -163,6 +163,9 @@ struct ContactCache {
   GjkCache gjk;
   SatAxisKind axis = SatAxisKind::none;  // last SAT axis (polytope pairs)
   hull::Index feature = hull::kInvalidIndex;
+  // The polytopes' last support vertices (hill-climbing starts; an answer
+  // does not depend on them beyond ties between equal supports).
+  hull::Index support_a = 0, support_b = 0;
 };
 
 struct ContactStats {
