@@ -575,18 +575,23 @@ Index edge_across(const SatPolytope& poly, const Vec& n) {
   return best == hull::kInvalidIndex ? best : std::min(best, m.twin(best));
 }
 
-// The best face axis among the faces around A's support vertex in n (of_a),
-// or B's in -n (n: A's frame, A -> B): the faces whose normals surround the
-// exact normal. Separations as SAT measures them (exact supports).
+// The face axis of A nearest n among the faces around A's support vertex
+// in n (of_a), or B's in -n (n: A's frame, A -> B): of the faces whose
+// normals surround the exact normal, the one most nearly along it, its
+// separation measured as SAT does (exact supports).
 SatAxis face_near(const PolytopePair& pp, const Vec& n, bool of_a) {
   const SatPolytope& poly = of_a ? pp.pa : pp.pb;
   const Vec dir = of_a ? n : Vec(-(pp.rel.rotation.transpose() * n));
-  SatAxis best;
+  Index face = hull::kInvalidIndex;
+  double best = -std::numeric_limits<double>::infinity();
   for (const Index f : poly.mesh->vertex_faces(poly.support(dir))) {
-    const SatAxis axis = sat_face_axis(pp.pa, pp.pb, pp.rel, of_a, f);
-    if (axis.separation > best.separation) best = axis;
+    const double along = poly.plane(f).normal.dot(dir);
+    if (along > best) {
+      best = along;
+      face = f;
+    }
   }
-  return best;
+  return face == hull::kInvalidIndex ? SatAxis{} : sat_face_axis(pp.pa, pp.pb, pp.rel, of_a, face);
 }
 
 // The three candidate axes of a pair that is not separated beyond the
@@ -755,9 +760,10 @@ ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Sha
 }
 
 // The exact normal's axes: penetration() (GJK, EPA when the cores overlap)
-// gives the exact separation s* and normal n; the face candidates are the
-// faces around each side's support feature along n (their separations
-// measured as SAT does), and the edge axis is n itself with s*, named by the
+// gives the exact separation s* and normal n; the face candidates are, on
+// each side, the face at the support vertex along n most nearly along n
+// (its separation measured as SAT does), and the edge axis is n itself with
+// s*, named by the
 // edges at the support vertices most nearly perpendicular to n. The same
 // bias then chooses among them. SAT's largest separation is s*, so this is
 // SAT's answer up to which face wins within the bias, without SAT's
@@ -780,10 +786,14 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
     }
     return exact;
   }
+  const double s_exact = p.distance + pp.ra + pp.rb;  // between the cores
+  if (pp.ra + pp.rb > 0.0 && s_exact > settings.penetration.touching_band * pp.scale) {
+    remember(cache, SatAxis{});
+    return rounded_cores_apart(pp, pose_a, world, exact, ContactStats{});
+  }
   AxisCandidates c;
   c.face_a = face_near(pp, n, true);
   c.face_b = face_near(pp, n, false);
-  const double s_exact = p.distance + pp.ra + pp.rb;  // between the cores
   c.edge.kind = SatAxisKind::edge;
   c.edge.separation = s_exact;
   c.edge.normal = n;
@@ -791,8 +801,6 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   c.edge.feature_b = edge_across(pp.pb, -(pp.rel.rotation.transpose() * n));
   const SatAxis best = choose_axis(c, cache, settings, pp.scale);
   remember(cache, best);
-  if (pp.ra + pp.rb > 0.0 && s_exact > settings.penetration.touching_band * pp.scale)
-    return rounded_cores_apart(pp, pose_a, world, exact, ContactStats{});
   return build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, &exact, cache, settings, ContactStats{});
 }
 

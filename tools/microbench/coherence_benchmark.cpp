@@ -11,10 +11,12 @@
 // every frame of every pair, frame-major so each cache sees its pair's last
 // frame), and the warm answers checked against the cold ones: the largest
 // |warm - cold| signed distance over the size for penetration(), and for
-// contact() the frames whose point count or path differs and the largest
-// distance difference where both took the same path.
+// contact() the frames whose point count or path differs (not counting B's
+// reference face kept by the cache where a cold query takes A's, both within
+// the bias) and the largest distance difference where both took the same
+// path.
 //
-// Run: build/bin/coherence_benchmark [pairs=16] [frames=200] [repetitions=3]
+// Run: build/bin/coherence_benchmark [pairs=16] [frames=200] [repetitions=3] [family]
 #include <time.h>
 
 #include <algorithm>
@@ -75,6 +77,9 @@ Agreement compare(const std::vector<Trajectory>& ts) {
       const ContactResult cc0 = contact(t.a, t.pose_a, t.b, pb);
       const ContactResult cw = contact(t.a, t.pose_a, t.b, pb, &cc);
       ++a.frames;
+      // B's face kept by the cache where a cold query takes A's: by design.
+      const bool kept_b = cw.path == ContactPath::face_b && cc0.path == ContactPath::face_a;
+      if (kept_b) continue;
       if (cc0.count != cw.count || (cc0.count > 0 && cc0.path != cw.path)) {
         ++a.differ;
         continue;
@@ -135,6 +140,7 @@ int main(int argc, char** argv) {
   const int pairs = argc > 1 ? std::atoi(argv[1]) : 16;
   const int frames = argc > 2 ? std::atoi(argv[2]) : 200;
   const int repetitions = argc > 3 ? std::atoi(argv[3]) : 3;
+  const std::string only = argc > 4 ? argv[4] : "";
   std::printf(
       "| family | kind | penetration cold ns | warm ns | cold/warm | contact cold ns | warm ns | cold/warm | "
       "Bullet GJK cold ns | warm ns | max |warm - cold| penetration / size | contact | contact path or count "
@@ -142,6 +148,7 @@ int main(int argc, char** argv) {
   const char* shapes[] = {"box",     "box_resting", "hull8",       "hull32",
                           "hull128", "hull1000",    "rounded_box", "rounded_hull32"};
   for (const char* shape : shapes) {
+    if (!only.empty() && only != shape) continue;
     run_family(shape, "separated", 0.02, pairs, frames, repetitions);
     run_family(shape, "touching", 0.0, pairs, frames, repetitions);
     run_family(shape, "penetrating", -0.01, pairs, frames, repetitions);
