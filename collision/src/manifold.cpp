@@ -255,10 +255,21 @@ double exit_distance(const SatPolytope& poly, const Placement& place, Index f, c
     }
     t = std::max(t, ts);
   };
+  // Each face around the face's vertices once (a face shares several of
+  // them; past the buffer, repeats are harmless).
+  std::array<Index, 64> seen;
+  std::size_t seen_count = 0;
+  const auto first_visit = [&](Index g) {
+    for (std::size_t k = 0; k < seen_count; ++k)
+      if (seen[k] == g) return false;
+    if (seen_count < seen.size()) seen[seen_count++] = g;
+    return true;
+  };
   for (const Index e : m.face_edges(f)) {
     const Vec a = place.point(poly.vertex(m.origin(e)));
     t = std::max(t, segment_exit(p, d, a, place.point(poly.vertex(m.destination(e))), r));
-    for (const Index g : m.vertex_faces(m.origin(e))) slab(g);
+    for (const Index g : m.vertex_faces(m.origin(e)))
+      if (first_visit(g)) slab(g);
   }
   return t;
 }
