@@ -743,6 +743,77 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   return out;
 }
 
+// ---- the cached face axis, certified --------------------------------------
+//
+// A face axis (normal u, A's frame, A -> B; separation s) measures one facet
+// of the Minkowski difference D = B - A: the face against the other shape's
+// support vertex, in the plane u . x = s, every other point of D having
+// u . x >= s. SAT's largest separation s* (penetration()'s signed distance)
+// is at least s. It is at most s + tol when
+//   * s >= 0: the origin's foot s u on that plane lies in the facet (a point
+//     of D at distance s: the distance is at most s), or
+//   * s < 0: the pyramid of the facet and D's support point along u (inside
+//     D: D is convex) holds the ball of radius |s| - tol about the origin
+//     (every side plane at least that far), so the depth is at least that.
+// Then the axis is (to tol) the exact one, the axis a cold query chooses
+// (every other axis separates by at most s* <= s + tol, short of the bias),
+// and the manifold is built from it without SAT's search or GJK/EPA.
+
+// The facet's vertices (polygon order; at most out.size()), or 0.
+std::size_t axis_facet(const PolytopePair& pp, const SatAxis& axis, std::array<Vec, kClipCapacity>& out) {
+  const bool of_a = axis.kind == SatAxisKind::face_a;
+  const SatPolytope& ref = of_a ? pp.pa : pp.pb;
+  const hull::HalfEdgeMesh& m = *ref.mesh;
+  const Index face = of_a ? axis.feature_a : axis.feature_b;
+  if (m.face_degree(face) > out.size()) return 0;
+  std::size_t count = 0;
+  if (of_a) {  // B's support vertex minus the face's vertices
+    const Vec b = pp.placed_b.point(pp.pb.vertex(pp.pb.support(-(pp.rel.rotation.transpose() * axis.normal))));
+    for (const Index e : m.face_edges(face)) out[count++] = b - pp.pa.vertex(m.origin(e));
+  } else {  // the face's vertices minus A's support vertex
+    const Vec a = pp.pa.vertex(pp.pa.support(axis.normal));
+    for (const Index e : m.face_edges(face)) out[count++] = pp.placed_b.point(pp.pb.vertex(m.origin(e))) - a;
+  }
+  return count;
+}
+
+// True when the separation of `axis` is certified to be SAT's largest
+// within tol (see above).
+bool axis_is_exact(const PolytopePair& pp, const SatAxis& axis, double tol) {
+  std::array<Vec, kClipCapacity> facet;
+  const std::size_t count = axis_facet(pp, axis, facet);
+  if (count < 3) return false;
+  const Vec& u = axis.normal;
+  const double s = axis.separation;
+  Vec centroid = Vec::Zero();
+  for (std::size_t k = 0; k < count; ++k) centroid += facet[k];
+  centroid /= static_cast<double>(count);
+  if (s >= 0.0) {
+    const Vec foot = s * u;
+    for (std::size_t k = 0; k < count; ++k) {
+      const Vec& p = facet[k];
+      Vec side = (facet[k + 1 == count ? 0 : k + 1] - p).cross(u);
+      if (side.dot(centroid - p) > 0.0) side = -side;  // outward
+      if (side.dot(foot - p) > 0.0) return false;
+    }
+    return true;
+  }
+  // D's support point along u: B's along u minus A's along -u.
+  const Vec apex =
+      pp.placed_b.point(pp.pb.vertex(pp.pb.support(pp.rel.rotation.transpose() * u))) - pp.pa.vertex(pp.pa.support(-u));
+  const Vec inside = 0.5 * (centroid + apex);
+  const double need = -s - tol;
+  for (std::size_t k = 0; k < count; ++k) {
+    const Vec& p = facet[k];
+    Vec side = (facet[k + 1 == count ? 0 : k + 1] - p).cross(apex - p);
+    const double len = side.norm();
+    if (!(len > 0.0)) return false;
+    if (side.dot(inside - p) > 0.0) side = -side;    // outward
+    if (!(side.dot(p) >= need * len)) return false;  // the origin's distance inside this side
+  }
+  return true;
+}
+
 // SAT's axes: the full separating-axis test (sat.hpp).
 ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
                              const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
@@ -856,11 +927,16 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
     return r;
   };
   SatAxis axis;
-  if (cached_separation(pp, cache, axis)) {
-    ContactStats stats;
-    stats.cache_hit = true;
-    return stored(separated_along(pp, world, axis, stats));
-  }
+  ContactStats hit;
+  hit.cache_hit = true;
+  if (cached_separation(pp, cache, axis)) return stored(separated_along(pp, world, axis, hit));
+  // The cached face still the exact axis: its manifold, as a cold query
+  // builds it (rounded cores within the touching band only: beyond it a
+  // cold query follows the cores' normal).
+  const double band = settings.penetration.touching_band * pp.scale;
+  const bool rounded = pp.ra + pp.rb > 0.0;
+  if (axis.kind != SatAxisKind::none && (!rounded || axis.separation <= 0.0) && axis_is_exact(pp, axis, band))
+    return stored(build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, axis, nullptr, cache, settings, hit));
   if (use_sat(pp, settings))
     return stored(contact_by_sat(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings));
   return stored(contact_by_normal(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings));

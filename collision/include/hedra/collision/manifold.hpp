@@ -169,7 +169,7 @@ struct ContactCache {
 };
 
 struct ContactStats {
-  bool cache_hit = false;  // answered from the cached axis
+  bool cache_hit = false;  // answered from the cached face axis (separated, or certified exact)
   int edge_pairs = 0;      // SAT edge pairs that passed the Gauss-map test
   int clipped_points = 0;  // points after clipping, before the contact-distance filter and reduction
 };
