@@ -631,7 +631,8 @@ SatAxis choose_axis(const AxisCandidates& c, const ContactCache* cache, const Co
 void remember(ContactCache* cache, const SatAxis& axis) {
   if (!cache) return;
   cache->axis = axis.kind;
-  cache->feature = axis.kind == SatAxisKind::face_a ? axis.feature_a : axis.feature_b;
+  cache->feature = axis.kind == SatAxisKind::face_b ? axis.feature_b : axis.feature_a;
+  cache->feature_b = axis.kind == SatAxisKind::edge ? axis.feature_b : hull::kInvalidIndex;
 }
 
 // What the last frame learned: a pair separated along its cached face axis
@@ -777,14 +778,12 @@ std::size_t axis_facet(const PolytopePair& pp, const SatAxis& axis, std::array<V
   return count;
 }
 
-// True when the separation of `axis` is certified to be SAT's largest
-// within tol (see above).
-bool axis_is_exact(const PolytopePair& pp, const SatAxis& axis, double tol) {
-  std::array<Vec, kClipCapacity> facet;
-  const std::size_t count = axis_facet(pp, axis, facet);
+// True when the separation s of the facet (count points of D in the plane
+// u . x = s, polygon order) is certified to be SAT's largest within tol
+// (see above).
+bool facet_is_exact(const PolytopePair& pp, const std::array<Vec, kClipCapacity>& facet, std::size_t count,
+                    const Vec& u, double s, double tol) {
   if (count < 3) return false;
-  const Vec& u = axis.normal;
-  const double s = axis.separation;
   Vec centroid = Vec::Zero();
   for (std::size_t k = 0; k < count; ++k) centroid += facet[k];
   centroid /= static_cast<double>(count);
@@ -812,6 +811,52 @@ bool axis_is_exact(const PolytopePair& pp, const SatAxis& axis, double tol) {
     if (!(side.dot(p) >= need * len)) return false;  // the origin's distance inside this side
   }
   return true;
+}
+
+bool face_axis_is_exact(const PolytopePair& pp, const SatAxis& axis, double tol) {
+  std::array<Vec, kClipCapacity> facet;
+  const std::size_t count = axis_facet(pp, axis, facet);
+  return facet_is_exact(pp, facet, count, axis.normal, axis.separation, tol);
+}
+
+// The cached edge pair's axis at the new poses, N = e_A x e_B turned so
+// that the two edges are the shapes' supports along it (A's at its top, B's
+// at its bottom, within tol); kind none when the edges have turned
+// parallel or no longer support the shapes. `facet`: the parallelogram
+// e_B - e_A, D's facet along N.
+SatAxis cached_edge_axis(const PolytopePair& pp, const ContactCache& cache, const ContactSettings& settings, double tol,
+                         std::array<Vec, kClipCapacity>& facet) {
+  const hull::HalfEdgeMesh& ma = *pp.pa.mesh;
+  const hull::HalfEdgeMesh& mb = *pp.pb.mesh;
+  const Index ea = cache.feature, eb = cache.feature_b;
+  if (ea >= ma.half_edge_count() || eb >= mb.half_edge_count()) return {};
+  const Vec a0 = pp.pa.vertex(ma.origin(ea)), a1 = pp.pa.vertex(ma.destination(ea));
+  const Vec b0 = pp.placed_b.point(pp.pb.vertex(mb.origin(eb)));
+  const Vec b1 = pp.placed_b.point(pp.pb.vertex(mb.destination(eb)));
+  Vec u = (a1 - a0).cross(b1 - b0);
+  const double len = u.norm();
+  if (!(len > settings.parallel_tolerance * (a1 - a0).norm() * (b1 - b0).norm())) return {};
+  u /= len;
+  const auto supports = [&](const Vec& n) {
+    const Vec a_top = pp.pa.vertex(pp.pa.support(n));
+    const Vec b_low = pp.placed_b.point(pp.pb.vertex(pp.pb.support(-(pp.rel.rotation.transpose() * n))));
+    return n.dot(a_top - a0) <= tol && n.dot(b0 - b_low) <= tol;
+  };
+  if (!supports(u)) {
+    u = -u;
+    if (!supports(u)) return {};
+  }
+  facet[0] = b0 - a0;
+  facet[1] = b1 - a0;
+  facet[2] = b1 - a1;
+  facet[3] = b0 - a1;
+  SatAxis axis;
+  axis.kind = SatAxisKind::edge;
+  axis.separation = u.dot(b0 - a0);
+  axis.feature_a = ea;
+  axis.feature_b = eb;
+  axis.normal = u;
+  return axis;
 }
 
 // SAT's axes: the full separating-axis test (sat.hpp).
@@ -935,8 +980,23 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   // cold query follows the cores' normal).
   const double band = settings.penetration.touching_band * pp.scale;
   const bool rounded = pp.ra + pp.rb > 0.0;
-  if (axis.kind != SatAxisKind::none && (!rounded || axis.separation <= 0.0) && axis_is_exact(pp, axis, band))
+  if (axis.kind != SatAxisKind::none && (!rounded || axis.separation <= 0.0) && face_axis_is_exact(pp, axis, band))
     return stored(build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, axis, nullptr, cache, settings, hit));
+  // The cached edge pair likewise; the faces about its axis may still win
+  // by the bias, as in a cold query.
+  if (cache && cache->axis == SatAxisKind::edge) {
+    std::array<Vec, kClipCapacity> facet;
+    const SatAxis edge = cached_edge_axis(pp, *cache, settings, band, facet);
+    if (edge.kind == SatAxisKind::edge && edge.separation > pp.core_contact)
+      return stored(separated_along(pp, world, edge, hit));
+    if (edge.kind == SatAxisKind::edge && (!rounded || edge.separation <= 0.0) &&
+        facet_is_exact(pp, facet, 4, edge.normal, edge.separation, band)) {
+      const SatAxis best = choose_axis({face_near(pp, edge.normal, true), face_near(pp, edge.normal, false), edge},
+                                       cache, settings, pp.scale);
+      remember(cache, best);
+      return stored(build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, nullptr, cache, settings, hit));
+    }
+  }
   if (use_sat(pp, settings))
     return stored(contact_by_sat(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings));
   return stored(contact_by_normal(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings));

@@ -9,7 +9,8 @@
 //     same path, except where the cached reference face keeps B's face that
 //     a cold query (A's face first) replaces by A's (both within the bias of
 //     the exact depth), and where the cached separating face answers alone
-//     (separated either way; the cached axis's distance is a lower bound).
+//     (separated either way; the cached axis's distance is a lower bound
+//     on the exact one, as a cold SAT's is).
 #include <gtest/gtest.h>
 
 #include <hedra/collision/manifold.hpp>
@@ -49,7 +50,7 @@ void check_trajectory(const trajectories::Trajectory& t, const std::string& what
       ++tally.cached_separated;
       EXPECT_EQ(cc.path, ContactPath::separated);
       EXPECT_EQ(cw.path, ContactPath::separated);
-      EXPECT_LE(cw.distance, cc.distance + tol);  // a lower bound
+      EXPECT_LE(cw.distance, pc.distance + tol);  // a lower bound on the distance, as a cold SAT's
       EXPECT_GT(cw.distance, settings.contact_distance);
       continue;
     }

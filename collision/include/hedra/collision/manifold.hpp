@@ -161,8 +161,9 @@ struct ContactSettings {
 
 struct ContactCache {
   GjkCache gjk;
-  SatAxisKind axis = SatAxisKind::none;  // last SAT axis (polytope pairs)
-  hull::Index feature = hull::kInvalidIndex;
+  SatAxisKind axis = SatAxisKind::none;         // last axis (polytope pairs)
+  hull::Index feature = hull::kInvalidIndex;    // its face, or A's half-edge for an edge axis
+  hull::Index feature_b = hull::kInvalidIndex;  // B's half-edge for an edge axis
   // The polytopes' last support vertices (hill-climbing starts; an answer
   // does not depend on them beyond ties between equal supports).
   hull::Index support_a = 0, support_b = 0;
