@@ -5,10 +5,12 @@
 // plate, hulls of 8 to 128 vertices, rounded boxes and hulls) answer as the
 // same queries without a cache:
 //   * penetration(): the same signed distance within the error bounds;
-//   * contact(): the same status, point count and signed distance, and the
-//     same path, except where the cached reference face keeps B's face that
-//     a cold query (A's face first) replaces by A's (both within the bias of
-//     the exact depth), and where the cached separating face answers alone
+//   * contact(): the same status, signed distance, path and points,
+//     except where the cached reference face keeps B's face that a cold
+//     query (A's face first) replaces (both within the bias of the exact
+//     depth), where two axes are exact to rounding (a tie: the same
+//     distance, another path; under 1 % of the frames), and where the
+//     cached separating axis answers alone
 //     (separated either way; the cached axis's distance is a lower bound
 //     on the exact one, as a cold SAT's is).
 #include <gtest/gtest.h>
@@ -21,8 +23,14 @@ namespace hedra::collision {
 namespace {
 
 struct Tally {
-  int frames = 0, kept_face_b = 0, cached_separated = 0, cached_face = 0;
+  int frames = 0, kept_face_b = 0, cached_separated = 0, cached_face = 0, ties = 0;
 };
+
+// The cache held B's face, and the warm query kept it as the reference.
+bool kept_face_b(const ContactCache& before, const ContactResult& warm) {
+  return before.axis == SatAxisKind::face_b && warm.path == ContactPath::face_b && warm.count > 0 &&
+         warm.points[0].id.reference == before.feature;
+}
 
 void check_trajectory(const trajectories::Trajectory& t, const std::string& what, Tally& tally) {
   GjkCache gjk;
@@ -39,30 +47,39 @@ void check_trajectory(const trajectories::Trajectory& t, const std::string& what
     EXPECT_NEAR(pw.distance, pc.distance, pc.error_bound + pw.error_bound + tol);
 
     const ContactResult cc = contact(t.a, t.pose_a, t.b, pb, nullptr, settings);
+    const ContactCache before = cache;
     const ContactResult cw = contact(t.a, t.pose_a, t.b, pb, &cache, settings);
     ++tally.frames;
     ASSERT_EQ(cw.status, cc.status);
     if (std::abs(cc.distance) > pc.error_bound + tol) {  // touching: either sign
       EXPECT_EQ(cw.intersecting, cc.intersecting);
     }
-    ASSERT_EQ(cw.count, cc.count);
     if (cw.stats.cache_hit && cw.path == ContactPath::separated) {
       ++tally.cached_separated;
       EXPECT_EQ(cc.path, ContactPath::separated);
-      EXPECT_EQ(cw.path, ContactPath::separated);
+      EXPECT_EQ(cw.count, 0);
+      EXPECT_EQ(cc.count, 0);
       EXPECT_LE(cw.distance, pc.distance + tol);  // a lower bound on the distance, as a cold SAT's
       EXPECT_GT(cw.distance, settings.contact_distance);
       continue;
     }
     tally.cached_face += cw.stats.cache_hit;
     const double bias = settings.relative_bias * std::abs(pc.distance) + settings.absolute_bias * t.size;
-    if (cw.path == ContactPath::face_b && cc.path == ContactPath::face_a) {
+    if (kept_face_b(before, cw) && cc.path != ContactPath::face_b) {
       ++tally.kept_face_b;
+      EXPECT_GE(cw.count, 1);
       EXPECT_LE(std::abs(cw.distance - cc.distance), bias + tol);
       continue;
     }
-    EXPECT_EQ(cw.path, cc.path);
     EXPECT_NEAR(cw.distance, cc.distance, pc.error_bound + tol);
+    if (cw.path != cc.path) {
+      // Two axes exact to rounding (a touching vertex on an edge, say):
+      // either manifold is the pair's.
+      ++tally.ties;
+      EXPECT_GE(cw.count, 1);
+      continue;
+    }
+    ASSERT_EQ(cw.count, cc.count);
     for (int k = 0; k < cw.count; ++k) {
       EXPECT_NEAR(cw.points[k].depth, cc.points[k].depth, pc.error_bound + tol);
       EXPECT_LE((cw.points[k].point - cc.points[k].point).norm(), 1e-6 * t.size);
@@ -80,8 +97,11 @@ TEST(FrameCoherence, WarmAnswersEqualColdOnes) {
       for (const trajectories::Trajectory& t : trajectories::make_trajectories(shape, target, 3, 60, ++seed))
         check_trajectory(t, std::string(shape) + " " + kind, tally);
   std::printf(
-      "frames %d, B's face kept by the cache %d, separated by the cached axis %d, built on the cached face %d\n",
-      tally.frames, tally.kept_face_b, tally.cached_separated, tally.cached_face);
+      "frames %d, B's face kept by the cache %d, separated by the cached axis %d, built on the cached axis %d, "
+      "ties %d\n",
+      tally.frames, tally.kept_face_b, tally.cached_separated, tally.cached_face, tally.ties);
+  EXPECT_LT(tally.ties, tally.frames / 100);
+  EXPECT_GT(tally.cached_face, 1000);  // resting and sliding pairs skip SAT and GJK/EPA
   EXPECT_EQ(tally.frames, 7 * 3 * 3 * 60);
   EXPECT_GT(tally.cached_separated, 100);  // the separated trajectories use the cache
 }
