@@ -4,8 +4,19 @@
 //   ContactResult contact(a, pose_a, b, pose_b, cache, settings)
 //
 // Paths (ContactResult::path says which ran):
-//   * polytopes (Box, and Polyhedron with a solid hull) against polytopes:
-//     SAT (sat.hpp) in A's core frame, then
+//   * polytopes (Box, and Polyhedron with a solid hull) against polytopes,
+//     in A's core frame. The candidate axes come from one of two searches
+//     (ContactSettings::axis_search; by default SAT when E_A x E_B <= 150
+//     edge pairs, two boxes among them, else the exact normal):
+//       SAT (sat.hpp): A's best face, B's best face, the best edge pair;
+//       exact normal: penetration()'s signed distance s* and normal n
+//       (GJK, EPA when the cores overlap); the face candidates are, on each
+//       side, the face at the support vertex along n most nearly along n,
+//       and the edge axis is n itself with s*. SAT's largest separation is
+//       s*, so both searches agree up to which face wins within the bias,
+//       and the exact normal costs penetration() and two face measurements
+//       instead of SAT's E_A x E_B edge pairs.
+//     Then
 //       face contact: the reference face is the face axis (A's, or B's when
 //       B's is better by the bias below); the incident face is the face of
 //       the other shape most anti-parallel to it, searched only around the
@@ -17,7 +28,9 @@
 //       reduced to four: the deepest, the one farthest from it, then the
 //       largest positive and negative signed triangle areas with those two
 //       (the quadrilateral of largest area these choices can reach);
-//       edge contact: one point, the closest points of the two edges.
+//       edge contact: one point, the closest points of the two edges (the
+//       exact normal: penetration()'s witnesses, named by the edges at the
+//       support vertices most nearly perpendicular to n).
 //     Face axes are preferred over edge axes, and A's face over B's (B's
 //     when the cache holds B's same face from the last frame): the
 //     challenger must beat the incumbent by relative_bias |s| +
@@ -64,11 +77,23 @@
 // Memory: fixed-size storage on the stack; no allocation per query (the
 // shared unit-box topology is built once, on the first box query).
 //
-// Cache: a ContactCache per pair carries GJK's warm start and the last SAT
-// axis. A pair separated along its cached face axis by more than the contact
-// distance is answered from that axis alone; otherwise the full SAT runs,
-// and a cached reference face of B that is still B's best face stays the
-// incumbent (the reference face does not swap while the same faces touch).
+// Cache: a ContactCache per pair carries GJK's warm start, the polytopes'
+// support vertices (hill-climbing starts) and the last axis (a face, or an
+// edge pair), re-measured at the new poses before any search:
+//   * separated along it by more than the contact distance: answered from
+//     that axis alone (separated; the distance a lower bound, as SAT's);
+//   * otherwise certified exact when it is (manifold.cpp: the origin's foot
+//     inside the axis's facet of the Minkowski difference, or the ball of
+//     the depth inside the pyramid of that facet and a support point): the
+//     axis a cold query would choose, so the manifold is built from it
+//     without SAT or GJK/EPA (an edge pair still meets the faces about its
+//     axis through the bias);
+//   * otherwise the full search runs, and a cached reference face of B that
+//     is still B's candidate stays the incumbent (the reference face does
+//     not swap while the same faces touch).
+// Warm answers equal cold ones but for that kept face of B (within the
+// bias) and ties (two axes exact to rounding: the same distance).
+// tests/collision/frame_coherence_test.cpp checks it on moving pairs.
 #pragma once
 
 #include <Eigen/Core>
