@@ -612,20 +612,25 @@ struct AxisCandidates {
 };
 
 // Face axes first, then the edge axis, each challenger beating the
-// incumbent by the bias. The incumbent face is A's, or B's when the pair's
-// cache says B's same face was the reference last frame: without that
-// memory a slide that carries the two faces' separations across the bias
-// swaps the reference face although the same faces touch, and renames
-// every point.
+// incumbent by the bias; A's face is the incumbent. B's face is kept
+// instead when the pair's cache says it was the reference last frame and
+// it still holds with B's face as the incumbent: without that memory a
+// slide that carries the two faces' separations across the bias swaps the
+// reference face although the same faces touch, and renames every point.
+// (Only a choice of A's face is ever replaced so: were B's face not to
+// hold, the choice is the one without the cache.)
 SatAxis choose_axis(const AxisCandidates& c, const ContactCache* cache, const ContactSettings& settings, double scale) {
   const auto bias = [&](double sep) { return settings.relative_bias * std::abs(sep) + settings.absolute_bias * scale; };
+  const auto pick = [&](const SatAxis& incumbent, const SatAxis& challenger) {
+    const SatAxis* best = &incumbent;
+    if (challenger.separation > incumbent.separation + bias(incumbent.separation)) best = &challenger;
+    if (c.edge.kind == SatAxisKind::edge && c.edge.separation > best->separation + bias(best->separation))
+      best = &c.edge;
+    return best;
+  };
   const bool keep_b = cache && cache->axis == SatAxisKind::face_b && cache->feature == c.face_b.feature_b;
-  const SatAxis* incumbent = keep_b ? &c.face_b : &c.face_a;
-  const SatAxis* challenger = keep_b ? &c.face_a : &c.face_b;
-  const SatAxis* best = incumbent;
-  if (challenger->separation > incumbent->separation + bias(incumbent->separation)) best = challenger;
-  if (c.edge.kind == SatAxisKind::edge && c.edge.separation > best->separation + bias(best->separation)) best = &c.edge;
-  return *best;
+  if (keep_b && pick(c.face_b, c.face_a) == &c.face_b) return c.face_b;
+  return *pick(c.face_a, c.face_b);
 }
 
 void remember(ContactCache* cache, const SatAxis& axis) {
@@ -859,6 +864,23 @@ SatAxis cached_edge_axis(const PolytopePair& pp, const ContactCache& cache, cons
   return axis;
 }
 
+// The manifold of the chosen axis (choose_axis), remembered in the cache.
+// When the cache's kept face of B builds no manifold of its own (its kept
+// points too shallow: penetration()'s single point would follow), the
+// choice without the cache is built instead, as a cold query builds it.
+ContactResult build_chosen(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
+                           const PolytopePair& pp, const WorldFrame& world, const AxisCandidates& c,
+                           const ContactResult* exact, ContactCache* cache, const ContactSettings& settings,
+                           const ContactStats& stats) {
+  const SatAxis best = choose_axis(c, cache, settings, pp.scale);
+  remember(cache, best);
+  ContactResult r = build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, exact, cache, settings, stats);
+  const SatAxis cold = choose_axis(c, nullptr, settings, pp.scale);
+  if (r.path != ContactPath::single_point || cold.kind == best.kind) return r;
+  remember(cache, cold);
+  return build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, cold, exact, cache, settings, stats);
+}
+
 // SAT's axes: the full separating-axis test (sat.hpp).
 ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
                              const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
@@ -877,13 +899,14 @@ ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Sha
     remember(cache, *axis);
     return separated_along(pp, world, *axis, stats);
   }
-  const SatAxis best = choose_axis({s.face_a, s.face_b, s.edge}, cache, settings, pp.scale);
-  remember(cache, best);
+  const AxisCandidates c{s.face_a, s.face_b, s.edge};
+  const SatAxis best = choose_axis(c, cache, settings, pp.scale);
   if (pp.ra + pp.rb > 0.0 && best.separation > settings.penetration.touching_band * pp.scale) {
+    remember(cache, best);
     const ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
     return rounded_cores_apart(pp, pose_a, world, single, stats);
   }
-  return build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, nullptr, cache, settings, stats);
+  return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, stats);
 }
 
 // The exact normal's axes: penetration() (GJK, EPA when the cores overlap)
@@ -926,9 +949,7 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   c.edge.normal = n;
   c.edge.feature_a = edge_across(pp.pa, n);
   c.edge.feature_b = edge_across(pp.pb, -(pp.rel.rotation.transpose() * n));
-  const SatAxis best = choose_axis(c, cache, settings, pp.scale);
-  remember(cache, best);
-  return build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, &exact, cache, settings, ContactStats{});
+  return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, &exact, cache, settings, ContactStats{});
 }
 
 // SAT's edge loop tests E_A x E_B edge pairs; the exact normal costs
@@ -991,10 +1012,8 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
       return stored(separated_along(pp, world, edge, hit));
     if (edge.kind == SatAxisKind::edge && (!rounded || edge.separation <= 0.0) &&
         facet_is_exact(pp, facet, 4, edge.normal, edge.separation, band)) {
-      const SatAxis best = choose_axis({face_near(pp, edge.normal, true), face_near(pp, edge.normal, false), edge},
-                                       cache, settings, pp.scale);
-      remember(cache, best);
-      return stored(build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, nullptr, cache, settings, hit));
+      const AxisCandidates c{face_near(pp, edge.normal, true), face_near(pp, edge.normal, false), edge};
+      return stored(build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, hit));
     }
   }
   if (use_sat(pp, settings))

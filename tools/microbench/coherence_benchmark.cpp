@@ -11,11 +11,12 @@
 // every frame of every pair, frame-major so each cache sees its pair's last
 // frame), and the warm answers checked against the cold ones: the largest
 // |warm - cold| signed distance over the size for penetration(), and for
-// contact() the largest distance difference (separated answers aside: a
-// lower bound either way), the frames with another path at the same
-// distance (ties: two axes exact to rounding), and the frames where the
-// cache kept B's reference face where a cold query takes another axis (by
-// design, within the bias).
+// contact() the largest distance difference where both took the same path
+// (separated answers aside: a lower bound either way), the frames with
+// another path (ties: two axes within the bias, which the start of a
+// support's climb decides), and the frames where the cache kept B's
+// reference face where a cold query takes another axis (by design, within
+// the bias).
 //
 // Run: build/bin/coherence_benchmark [pairs=16] [frames=200] [repetitions=3] [family]
 #include <time.h>
@@ -61,9 +62,9 @@ double time_per_query(const std::vector<Trajectory>& ts, int repetitions, Run ru
 
 struct Agreement {
   double penetration = 0.0;  // max |warm - cold| / size
-  double contact = 0.0;      // the same, B's face kept by the cache aside
+  double contact = 0.0;      // the same, where both took the same path
   int kept_b = 0;            // frames where the cache kept B's face as the reference
-  int ties = 0;              // frames with another path at the same distance
+  int ties = 0;              // frames with another path (another axis within the bias)
   int frames = 0;
   int hits = 0;  // warm frames answered from the cached axis
 };
@@ -90,7 +91,10 @@ Agreement compare(const std::vector<Trajectory>& ts) {
         ++a.kept_b;
         continue;
       }
-      a.ties += cc0.path != cw.path;
+      if (cc0.path != cw.path) {
+        ++a.ties;
+        continue;
+      }
       a.contact = std::max(a.contact, std::abs(cc0.distance - cw.distance) / t.size);
     }
   }
