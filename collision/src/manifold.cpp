@@ -523,50 +523,6 @@ struct PolytopePair {
   Placement placed_b;
 };
 
-// Rounded polytopes whose cores are apart (the margins overlap or lie
-// within the contact distance): SAT's axes only bound the cores' distance,
-// so the manifold is built around the exact normal of the cores' closest
-// features (`single`, penetration()'s answer, GJK on the cores). When that
-// normal is a face normal of A or of B (closest features face-vertex,
-// face-edge or face-face), that face is the reference and the points are
-// the clipped incident face with exact rounded depths; otherwise the
-// closest features are a vertex or an edge on each side and the contact is
-// penetration()'s single point.
-ContactResult rounded_cores_apart(const PolytopePair& pp, const Pose& pose_a, const WorldFrame& world,
-                                  const ContactResult& single, const ContactStats& stats) {
-  if (single.count == 0 || single.status != Status::ok) return single;
-  const Vec n = pose_a.rotation.transpose() * single.normal;  // A's core frame, A -> B
-  const double cos_exact = std::cos(kExactNormalAngle);
-  const double tol = geometric_tolerance(pp.scale);
-  const double ra = pp.ra, rb = pp.rb;
-  CandidateList candidates;
-  ContactResult out;
-  out.stats = stats;
-  Vec normal;
-  const Index fa = face_along(pp.pa, n, cos_exact);
-  if (fa != hull::kInvalidIndex) {
-    out.path = ContactPath::face_a;
-    normal = pp.pa.plane(fa).normal;
-    if (!face_contact(pp.pa, pp.identity, pp.pb, pp.placed_b, fa, true, tol, pp.keep + ra + rb, candidates,
-                      out.stats.clipped_points))
-      return single;
-    round_candidates(candidates, normal, true, ra, pp.pb, pp.placed_b, incident_face(pp.pb, pp.placed_b, normal), rb);
-  } else {
-    const Index fb = face_along(pp.pb, pp.rel.rotation.transpose() * -n, cos_exact);
-    if (fb == hull::kInvalidIndex) return single;
-    out.path = ContactPath::face_b;
-    const Vec nb = pp.rel.rotation * pp.pb.plane(fb).normal;  // out of B, A's frame
-    normal = -nb;
-    if (!face_contact(pp.pb, pp.placed_b, pp.pa, pp.identity, fb, false, tol, pp.keep + ra + rb, candidates,
-                      out.stats.clipped_points))
-      return single;
-    round_candidates(candidates, nb, false, rb, pp.pa, pp.identity, incident_face(pp.pa, pp.identity, nb), ra);
-  }
-  emit(candidates, normal, 0.0, 0.0, pp.keep, world, out);
-  if (out.count == 0) return single;
-  return out;
-}
-
 // The edge of `poly` at its support vertex in n (poly's frame) most nearly
 // perpendicular to n: where an edge-edge contact along n lies. Named by the
 // smaller of its half-edges (as SAT names edges).
@@ -584,6 +540,110 @@ Index edge_across(const SatPolytope& poly, const Vec& n) {
     }
   }
   return best == hull::kInvalidIndex ? best : std::min(best, m.twin(best));
+}
+
+// Rounded polytopes whose cores are apart (the margins overlap or lie
+// within the contact distance): SAT's axes only bound the cores' distance,
+// so the manifold is built around the exact normal n of the cores' closest
+// features (penetration()'s, GJK on the cores). When n is a face normal of
+// A or of B (closest features face-vertex, face-edge or face-face), that
+// face is the reference and the points are the clipped incident face with
+// exact rounded depths; otherwise the closest features are a vertex or an
+// edge on each side and the contact is penetration()'s single point.
+
+// The face for the exact normal n (A's frame, A -> B): A's within
+// kExactNormalAngle of n, else B's; kind none when neither.
+SatAxis rounded_face_along(const PolytopePair& pp, const Vec& n) {
+  const double cos_exact = std::cos(kExactNormalAngle);
+  SatAxis axis;
+  const Index fa = face_along(pp.pa, n, cos_exact);
+  if (fa != hull::kInvalidIndex) {
+    axis.kind = SatAxisKind::face_a;
+    axis.feature_a = fa;
+    axis.normal = pp.pa.plane(fa).normal;
+    return axis;
+  }
+  const Index fb = face_along(pp.pb, pp.rel.rotation.transpose() * -n, cos_exact);
+  if (fb != hull::kInvalidIndex) {
+    axis.kind = SatAxisKind::face_b;
+    axis.feature_b = fb;
+    axis.normal = -(pp.rel.rotation * pp.pb.plane(fb).normal);
+  }
+  return axis;
+}
+
+// That face's manifold with exact rounded depths; false when it has none
+// (a face too large for the buffers, no point kept).
+bool rounded_face_manifold(const PolytopePair& pp, const WorldFrame& world, const SatAxis& face, ContactResult& out) {
+  const double tol = geometric_tolerance(pp.scale);
+  const double ra = pp.ra, rb = pp.rb;
+  CandidateList candidates;
+  const Vec& normal = face.normal;
+  if (face.kind == SatAxisKind::face_a) {
+    out.path = ContactPath::face_a;
+    if (!face_contact(pp.pa, pp.identity, pp.pb, pp.placed_b, face.feature_a, true, tol, pp.keep + ra + rb, candidates,
+                      out.stats.clipped_points))
+      return false;
+    round_candidates(candidates, normal, true, ra, pp.pb, pp.placed_b, incident_face(pp.pb, pp.placed_b, normal), rb);
+  } else {
+    out.path = ContactPath::face_b;
+    const Vec nb = -normal;  // out of B, A's frame
+    if (!face_contact(pp.pb, pp.placed_b, pp.pa, pp.identity, face.feature_b, false, tol, pp.keep + ra + rb, candidates,
+                      out.stats.clipped_points))
+      return false;
+    round_candidates(candidates, nb, false, rb, pp.pa, pp.identity, incident_face(pp.pa, pp.identity, nb), ra);
+  }
+  emit(candidates, normal, 0.0, 0.0, pp.keep, world, out);
+  return out.count > 0;
+}
+
+// `single`: penetration()'s answer. `used`: the axis the manifold stands on
+// (the face, or the edges at the support vertices: the next frame's cache).
+ContactResult rounded_cores_apart(const PolytopePair& pp, const Pose& pose_a, const WorldFrame& world,
+                                  const ContactResult& single, const ContactStats& stats, SatAxis& used) {
+  used = SatAxis{};
+  if (single.count == 0 || single.status != Status::ok) return single;
+  const Vec n = pose_a.rotation.transpose() * single.normal;  // A's core frame, A -> B
+  used = rounded_face_along(pp, n);
+  if (used.kind != SatAxisKind::none) {
+    ContactResult out;
+    out.stats = stats;
+    if (rounded_face_manifold(pp, world, used, out)) return out;
+  } else {
+    used.kind = SatAxisKind::edge;
+    used.feature_a = edge_across(pp.pa, n);
+    used.feature_b = edge_across(pp.pb, -(pp.rel.rotation.transpose() * n));
+  }
+  ContactResult r = single;
+  r.stats = stats;
+  return r;
+}
+
+// The cached axis certified exact with the cores apart (its separation s
+// is their distance, its normal theirs): the manifold a cold query builds,
+// the face's, or one point between the edges, without GJK. False when the
+// cold query would do otherwise (then it runs).
+bool rounded_apart_from_cache(const PolytopePair& pp, const WorldFrame& world, const SatAxis& axis,
+                              const ContactSettings& settings, ContactResult& out) {
+  const SatAxis face = rounded_face_along(pp, axis.normal);
+  if (face.kind != SatAxisKind::none) return rounded_face_manifold(pp, world, face, out);
+  if (axis.kind != SatAxisKind::edge) return false;
+  const hull::HalfEdgeMesh& ma = *pp.pa.mesh;
+  const hull::HalfEdgeMesh& mb = *pp.pb.mesh;
+  const Vec a0 = pp.pa.vertex(ma.origin(axis.feature_a)), a1 = pp.pa.vertex(ma.destination(axis.feature_a));
+  const Vec b0 = pp.placed_b.point(pp.pb.vertex(mb.origin(axis.feature_b)));
+  const Vec b1 = pp.placed_b.point(pp.pb.vertex(mb.destination(axis.feature_b)));
+  Vec on_a, on_b;
+  closest_segment_points(a0, a1 - a0, b0, b1 - b0, on_a, on_b);
+  PenetrationResult p;  // as penetration() reports the rounded pair
+  p.distance = axis.separation - pp.ra - pp.rb;
+  p.normal = world.direction(axis.normal);
+  p.point_a = world.point(on_a + pp.ra * axis.normal);
+  p.point_b = world.point(on_b - pp.rb * axis.normal);
+  const ContactStats stats = out.stats;
+  out = penetration_point(p, pp.shape_scale, settings);
+  out.stats = stats;
+  return true;
 }
 
 // The face axis of A nearest n among the faces around A's support vertex
@@ -638,18 +698,6 @@ void remember(ContactCache* cache, const SatAxis& axis) {
   cache->axis = axis.kind;
   cache->feature = axis.kind == SatAxisKind::face_b ? axis.feature_b : axis.feature_a;
   cache->feature_b = axis.kind == SatAxisKind::edge ? axis.feature_b : hull::kInvalidIndex;
-}
-
-// What the last frame learned: a pair separated along its cached face axis
-// by more than the contact distance is answered from that axis alone (the
-// answer a cold query gives: separated, with a lower bound on the distance).
-bool cached_separation(const PolytopePair& pp, const ContactCache* cache, SatAxis& axis) {
-  if (!cache || (cache->axis != SatAxisKind::face_a && cache->axis != SatAxisKind::face_b)) return false;
-  const bool of_a = cache->axis == SatAxisKind::face_a;
-  const std::size_t faces = of_a ? pp.pa.mesh->face_count() : pp.pb.mesh->face_count();
-  if (cache->feature >= faces) return false;
-  axis = sat_face_axis(pp.pa, pp.pb, pp.rel, of_a, cache->feature);
-  return axis.separation > pp.core_contact;
 }
 
 ContactResult separated_along(const PolytopePair& pp, const WorldFrame& world, const SatAxis& axis,
@@ -818,12 +866,6 @@ bool facet_is_exact(const PolytopePair& pp, const std::array<Vec, kClipCapacity>
   return true;
 }
 
-bool face_axis_is_exact(const PolytopePair& pp, const SatAxis& axis, double tol) {
-  std::array<Vec, kClipCapacity> facet;
-  const std::size_t count = axis_facet(pp, axis, facet);
-  return facet_is_exact(pp, facet, count, axis.normal, axis.separation, tol);
-}
-
 // The cached edge pair's axis at the new poses, N = e_A x e_B turned so
 // that the two edges are the shapes' supports along it (A's at its top, B's
 // at its bottom, within tol); kind none when the edges have turned
@@ -902,9 +944,11 @@ ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Sha
   const AxisCandidates c{s.face_a, s.face_b, s.edge};
   const SatAxis best = choose_axis(c, cache, settings, pp.scale);
   if (pp.ra + pp.rb > 0.0 && best.separation > settings.penetration.touching_band * pp.scale) {
-    remember(cache, best);
     const ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
-    return rounded_cores_apart(pp, pose_a, world, single, stats);
+    SatAxis used;
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, single, stats, used);
+    remember(cache, used);
+    return r;
   }
   return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, stats);
 }
@@ -938,8 +982,10 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   }
   const double s_exact = p.distance + pp.ra + pp.rb;  // between the cores
   if (pp.ra + pp.rb > 0.0 && s_exact > settings.penetration.touching_band * pp.scale) {
-    remember(cache, SatAxis{});
-    return rounded_cores_apart(pp, pose_a, world, exact, ContactStats{});
+    SatAxis used;
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, exact, ContactStats{}, used);
+    remember(cache, used);
+    return r;
   }
   AxisCandidates c;
   c.face_a = face_near(pp, n, true);
@@ -950,6 +996,60 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   c.edge.feature_a = edge_across(pp.pa, n);
   c.edge.feature_b = edge_across(pp.pb, -(pp.rel.rotation.transpose() * n));
   return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, &exact, cache, settings, ContactStats{});
+}
+
+// What the last frame learned: the cached axis (a face, or an edge pair)
+// re-measured at the new poses, before any search.
+//   * Separated beyond the contact distance along it: answered from that
+//     axis alone (separated; the distance a lower bound, as SAT's).
+//   * Certified exact (facet_is_exact): the manifold a cold query builds
+//     on it, without SAT or GJK/EPA: a face's, or an edge pair's against
+//     the faces about its axis (the bias), or for rounded cores apart the
+//     face or edge point along their exact normal. Rounded cores apart by
+//     less than the certificate's tolerance are left to the cold query
+//     (which side of the touching band they fall on is not certain).
+// False when the cold query must run.
+bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
+                       const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
+                       const ContactSettings& settings, ContactResult& out) {
+  if (!cache) return false;
+  const double band = settings.penetration.touching_band * pp.scale;
+  std::array<Vec, kClipCapacity> facet;
+  SatAxis axis;
+  std::size_t count = 0;
+  if (cache->axis == SatAxisKind::face_a || cache->axis == SatAxisKind::face_b) {
+    const bool of_a = cache->axis == SatAxisKind::face_a;
+    if (cache->feature >= (of_a ? pp.pa.mesh->face_count() : pp.pb.mesh->face_count())) return false;
+    axis = sat_face_axis(pp.pa, pp.pb, pp.rel, of_a, cache->feature);
+    if (axis.separation <= pp.core_contact) count = axis_facet(pp, axis, facet);
+  } else if (cache->axis == SatAxisKind::edge) {
+    axis = cached_edge_axis(pp, *cache, settings, band, facet);
+    count = 4;
+  }
+  if (axis.kind == SatAxisKind::none) return false;
+  ContactStats hit;
+  hit.cache_hit = true;
+  // (An edge pair's supports hold within 2 band: its separation is SAT's
+  // less that much.)
+  if (axis.separation - (axis.kind == SatAxisKind::edge ? 2.0 * band : 0.0) > pp.core_contact) {
+    out = separated_along(pp, world, axis, hit);
+    return true;
+  }
+  if (!facet_is_exact(pp, facet, count, axis.normal, axis.separation, band)) return false;
+  out.stats = hit;
+  if (pp.ra + pp.rb > 0.0 && axis.separation > 0.0) {
+    if (!(axis.separation > band)) return false;
+    if (!rounded_apart_from_cache(pp, world, axis, settings, out)) return false;
+    remember(cache, axis.kind == SatAxisKind::edge ? axis : rounded_face_along(pp, axis.normal));
+    return true;
+  }
+  if (axis.kind != SatAxisKind::edge) {
+    out = build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, axis, nullptr, cache, settings, hit);
+    return true;
+  }
+  const AxisCandidates c{face_near(pp, axis.normal, true), face_near(pp, axis.normal, false), axis};
+  out = build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, hit);
+  return true;
 }
 
 // SAT's edge loop tests E_A x E_B edge pairs; the exact normal costs
@@ -992,30 +1092,8 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
     }
     return r;
   };
-  SatAxis axis;
-  ContactStats hit;
-  hit.cache_hit = true;
-  if (cached_separation(pp, cache, axis)) return stored(separated_along(pp, world, axis, hit));
-  // The cached face still the exact axis: its manifold, as a cold query
-  // builds it (rounded cores within the touching band only: beyond it a
-  // cold query follows the cores' normal).
-  const double band = settings.penetration.touching_band * pp.scale;
-  const bool rounded = pp.ra + pp.rb > 0.0;
-  if (axis.kind != SatAxisKind::none && (!rounded || axis.separation <= 0.0) && face_axis_is_exact(pp, axis, band))
-    return stored(build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, axis, nullptr, cache, settings, hit));
-  // The cached edge pair likewise; the faces about its axis may still win
-  // by the bias, as in a cold query.
-  if (cache && cache->axis == SatAxisKind::edge) {
-    std::array<Vec, kClipCapacity> facet;
-    const SatAxis edge = cached_edge_axis(pp, *cache, settings, band, facet);
-    if (edge.kind == SatAxisKind::edge && edge.separation > pp.core_contact)
-      return stored(separated_along(pp, world, edge, hit));
-    if (edge.kind == SatAxisKind::edge && (!rounded || edge.separation <= 0.0) &&
-        facet_is_exact(pp, facet, 4, edge.normal, edge.separation, band)) {
-      const AxisCandidates c{face_near(pp, edge.normal, true), face_near(pp, edge.normal, false), edge};
-      return stored(build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, hit));
-    }
-  }
+  ContactResult warm;
+  if (answer_from_cache(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings, warm)) return stored(warm);
   if (use_sat(pp, settings))
     return stored(contact_by_sat(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings));
   return stored(contact_by_normal(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings));
