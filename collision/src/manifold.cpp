@@ -717,7 +717,7 @@ ContactResult separated_along(const PolytopePair& pp, const WorldFrame& world, c
 ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
                              const PolytopePair& pp, const WorldFrame& world, const SatAxis& best,
                              const ContactResult* exact, ContactCache* cache, const ContactSettings& settings,
-                             const ContactStats& stats) {
+                             const ContactStats& stats, double exact_limit) {
   const auto fallback = [&] {
     ContactResult single = exact ? *exact : single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
     single.stats = stats;
@@ -779,9 +779,13 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   const double axis_separation = best.separation - (shifted ? ra + rb : 0.0);
   // The incident shape's deepest vertex clipped away by the reference face's
   // side planes (deep contacts near an edge): the kept points would be
-  // shallower than the axis by more than the bias allows.
+  // shallower than the axis by more than the bias allows, or shallower than
+  // the pair's exact separation (exact_limit, the cores' when known, with
+  // its tolerance: the deepest point is never shallower than the exact
+  // depth).
   const double bias = settings.relative_bias * std::abs(best.separation) + settings.absolute_bias * pp.scale;
-  const bool deepest_clipped = deepest > axis_separation + bias;
+  const double limit = std::min(axis_separation + bias, exact_limit - (shifted ? ra + rb : 0.0));
+  const bool deepest_clipped = deepest > limit;
   // A face too large for the fixed buffers, an incident face entirely
   // outside the reference face's side planes, or its deepest vertex outside
   // them: one point from penetration().
@@ -834,8 +838,10 @@ std::size_t axis_facet(const PolytopePair& pp, const SatAxis& axis, std::array<V
 // True when the separation s of the facet (count points of D in the plane
 // u . x = s, polygon order) is certified to be SAT's largest within tol
 // (see above).
+// `far_a`, `far_b`: the supports' climb starts on the far sides (the
+// apex's), kept apart from the near sides' so neither climb crosses a hull.
 bool facet_is_exact(const PolytopePair& pp, const std::array<Vec, kClipCapacity>& facet, std::size_t count,
-                    const Vec& u, double s, double tol) {
+                    const Vec& u, double s, double tol, Index& far_a, Index& far_b) {
   if (count < 3) return false;
   Vec centroid = Vec::Zero();
   for (std::size_t k = 0; k < count; ++k) centroid += facet[k];
@@ -851,8 +857,15 @@ bool facet_is_exact(const PolytopePair& pp, const std::array<Vec, kClipCapacity>
     return true;
   }
   // D's support point along u: B's along u minus A's along -u.
+  const Index near_a = pp.pa.hint, near_b = pp.pb.hint;
+  if (far_a < pp.pa.mesh->vertex_count()) pp.pa.hint = far_a;
+  if (far_b < pp.pb.mesh->vertex_count()) pp.pb.hint = far_b;
   const Vec apex =
       pp.placed_b.point(pp.pb.vertex(pp.pb.support(pp.rel.rotation.transpose() * u))) - pp.pa.vertex(pp.pa.support(-u));
+  far_a = pp.pa.hint;
+  far_b = pp.pb.hint;
+  pp.pa.hint = near_a;
+  pp.pb.hint = near_b;
   const Vec inside = 0.5 * (centroid + apex);
   const double need = -s - tol;
   for (std::size_t k = 0; k < count; ++k) {
@@ -913,14 +926,15 @@ SatAxis cached_edge_axis(const PolytopePair& pp, const ContactCache& cache, cons
 ContactResult build_chosen(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
                            const PolytopePair& pp, const WorldFrame& world, const AxisCandidates& c,
                            const ContactResult* exact, ContactCache* cache, const ContactSettings& settings,
-                           const ContactStats& stats) {
+                           const ContactStats& stats, double exact_limit) {
   const SatAxis best = choose_axis(c, cache, settings, pp.scale);
   remember(cache, best);
-  ContactResult r = build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, exact, cache, settings, stats);
+  ContactResult r =
+      build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, exact, cache, settings, stats, exact_limit);
   const SatAxis cold = choose_axis(c, nullptr, settings, pp.scale);
   if (r.path != ContactPath::single_point || cold.kind == best.kind) return r;
   remember(cache, cold);
-  return build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, cold, exact, cache, settings, stats);
+  return build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, cold, exact, cache, settings, stats, exact_limit);
 }
 
 // SAT's axes: the full separating-axis test (sat.hpp).
@@ -950,7 +964,11 @@ ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Sha
     remember(cache, used);
     return r;
   }
-  return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, stats);
+  // Overlapping or touching cores: SAT's largest separation is exact.
+  const double largest = std::max({s.face_a.separation, s.face_b.separation, s.edge.separation});
+  const double band = settings.penetration.touching_band * pp.scale;
+  const double limit = largest <= band ? largest + band : std::numeric_limits<double>::infinity();
+  return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, stats, limit);
 }
 
 // The exact normal's axes: penetration() (GJK, EPA when the cores overlap)
@@ -995,7 +1013,8 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   c.edge.normal = n;
   c.edge.feature_a = edge_across(pp.pa, n);
   c.edge.feature_b = edge_across(pp.pb, -(pp.rel.rotation.transpose() * n));
-  return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, &exact, cache, settings, ContactStats{});
+  const double limit = s_exact + p.error_bound + settings.penetration.touching_band * pp.scale;
+  return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, &exact, cache, settings, ContactStats{}, limit);
 }
 
 // What the last frame learned: the cached axis (a face, or an edge pair)
@@ -1035,7 +1054,7 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
     out = separated_along(pp, world, axis, hit);
     return true;
   }
-  if (!facet_is_exact(pp, facet, count, axis.normal, axis.separation, band)) return false;
+  if (!facet_is_exact(pp, facet, count, axis.normal, axis.separation, band, cache->far_a, cache->far_b)) return false;
   out.stats = hit;
   if (pp.ra + pp.rb > 0.0 && axis.separation > 0.0) {
     if (!(axis.separation > band)) return false;
@@ -1044,11 +1063,13 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
     return true;
   }
   if (axis.kind != SatAxisKind::edge) {
-    out = build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, axis, nullptr, cache, settings, hit);
+    out = build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, axis, nullptr, cache, settings, hit,
+                         axis.separation + 2.0 * band);
     return true;
   }
   const AxisCandidates c{face_near(pp, axis.normal, true), face_near(pp, axis.normal, false), axis};
-  out = build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, hit);
+  out = build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, hit,
+                     axis.separation + 2.0 * band);
   return true;
 }
 

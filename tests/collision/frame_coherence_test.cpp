@@ -3,7 +3,8 @@
 // (tools/microbench/trajectories.hpp: 1 % of the size and 1 degree a frame;
 // separated, touching, slightly penetrating; boxes, a box sliding on a
 // plate, hulls of 8 to 128 vertices, rounded boxes and hulls) answer as the
-// same queries without a cache:
+// same queries without a cache, and neither's deepest point is shallower
+// than the exact depth:
 //   * penetration(): the same signed distance within the error bounds;
 //   * contact(): the same status, signed distance, path and points,
 //     except where the cached reference face keeps B's face that a cold
@@ -15,6 +16,7 @@
 //     on the exact one, as a cold SAT's is).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <hedra/collision/manifold.hpp>
 
 #include "../../tools/microbench/trajectories.hpp"
@@ -64,6 +66,16 @@ void check_trajectory(const trajectories::Trajectory& t, const std::string& what
       continue;
     }
     tally.cached_face += cw.stats.cache_hit;
+    // Warm or cold, the deepest point is never shallower than the exact
+    // depth (a face whose deepest incident vertex is clipped away gives way
+    // to penetration()'s point).
+    if (pc.distance <= tol) {
+      for (const ContactResult* r : {&cc, &cw}) {
+        double deepest = -INFINITY;
+        for (int k = 0; k < r->count; ++k) deepest = std::max(deepest, r->points[k].depth);
+        EXPECT_GE(deepest, -pc.distance - (pc.error_bound + tol)) << (r == &cw ? "warm" : "cold");
+      }
+    }
     const double bias = settings.relative_bias * std::abs(pc.distance) + settings.absolute_bias * t.size;
     if (kept_face_b(before, cw) && cc.path != ContactPath::face_b) {
       ++tally.kept_face_b;

@@ -192,6 +192,7 @@ struct ContactCache {
   // The polytopes' last support vertices (hill-climbing starts; an answer
   // does not depend on them beyond ties between equal supports).
   hull::Index support_a = 0, support_b = 0;
+  hull::Index far_a = 0, far_b = 0;  // the same on the far sides (the certificate's apex)
 };
 
 struct ContactStats {
