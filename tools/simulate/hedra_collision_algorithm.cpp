@@ -50,6 +50,39 @@ void polygon_order(const collision::ContactResult& r, int (&order)[collision::kM
     for (int j = k; j > 1 && angle[order[j]] < angle[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
 }
 
+// The hedra shape of a Bullet convex primitive; false for other shapes.
+bool primitive_shape(const btCollisionShape* shape, collision::Shape& out) {
+  switch (shape->getShapeType()) {
+    case BOX_SHAPE_PROXYTYPE:
+      out = collision::Box{to_eigen(static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin())};
+      return true;
+    case SPHERE_SHAPE_PROXYTYPE:
+      out = collision::Sphere{static_cast<const btSphereShape*>(shape)->getRadius()};
+      return true;
+    case CAPSULE_SHAPE_PROXYTYPE: {
+      const auto* capsule = static_cast<const btCapsuleShape*>(shape);
+      if (capsule->getUpAxis() != 2) return false;
+      out = collision::Capsule{capsule->getHalfHeight(), capsule->getRadius()};
+      return true;
+    }
+    case CYLINDER_SHAPE_PROXYTYPE: {
+      const auto* cylinder = static_cast<const btCylinderShape*>(shape);
+      if (cylinder->getUpAxis() != 2) return false;
+      const btVector3 core = cylinder->getHalfExtentsWithoutMargin();
+      out = collision::Cylinder{core.x(), core.z(), cylinder->getMargin()};
+      return true;
+    }
+    case CONE_SHAPE_PROXYTYPE: {
+      const auto* cone = static_cast<const btConeShape*>(shape);
+      if (cone->getConeUpIndex() != 2) return false;
+      out = collision::Cone{cone->getRadius(), 0.5 * cone->getHeight(), cone->getMargin()};
+      return true;
+    }
+    default:
+      return false;
+  }
+}
+
 }  // namespace
 
 collision::Pose CachedShape::pose(const btTransform& world) const {
@@ -63,10 +96,7 @@ const CachedShape* ShapeCache::get(const btCollisionShape* shape) {
   const auto found = shapes_.find(shape);
   if (found != shapes_.end()) return found->second.get();
   auto made = std::make_unique<CachedShape>();
-  if (shape->getShapeType() == BOX_SHAPE_PROXYTYPE) {
-    const auto* box = static_cast<const btBoxShape*>(shape);
-    made->shape = collision::Box{to_eigen(box->getHalfExtentsWithMargin())};
-  } else if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
+  if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
     const auto* hull = static_cast<const btConvexHullShape*>(shape);
     std::vector<Eigen::Vector3d> points;
     for (int i = 0; i < hull->getNumPoints(); ++i) points.push_back(to_eigen(hull->getScaledPoint(i)));
@@ -74,10 +104,15 @@ const CachedShape* ShapeCache::get(const btCollisionShape* shape) {
     if (!built.ok()) return nullptr;
     made->shape = collision::Polyhedron{built.polyhedron, hull->getMargin()};
     made->offset = built.polyhedron->offset();
-  } else {
+  } else if (!primitive_shape(shape, made->shape)) {
     return nullptr;
   }
   return shapes_.emplace(shape, std::move(made)).first->second.get();
+}
+
+void ShapeCache::set(const btCollisionShape* bullet, const CachedShape& shape) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  shapes_[bullet] = std::make_unique<CachedShape>(shape);
 }
 
 HedraCollisionAlgorithm::HedraCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
@@ -123,9 +158,10 @@ long HedraCollisionAlgorithm::points() { return g_points.load(); }
 void register_hedra(btCollisionDispatcher& dispatcher, HedraCollisionAlgorithm::CreateFunc& create,
                     ShapeCache& shapes) {
   create.shapes = &shapes;
-  for (const int x : {BOX_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE})
-    for (const int y : {BOX_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE})
-      dispatcher.registerCollisionCreateFunc(x, y, &create);
+  const int types[] = {BOX_SHAPE_PROXYTYPE,     CONVEX_HULL_SHAPE_PROXYTYPE, SPHERE_SHAPE_PROXYTYPE,
+                       CAPSULE_SHAPE_PROXYTYPE, CYLINDER_SHAPE_PROXYTYPE,    CONE_SHAPE_PROXYTYPE};
+  for (const int x : types)
+    for (const int y : types) dispatcher.registerCollisionCreateFunc(x, y, &create);
 }
 
 }  // namespace hedra::simulate

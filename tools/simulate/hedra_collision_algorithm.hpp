@@ -1,5 +1,6 @@
 // hedra's contact manifolds inside Bullet's dynamics: a btCollisionAlgorithm
-// for box and convex-hull shapes that runs hedra::collision::contact() and
+// for Bullet's convex primitives (box, hull, sphere, capsule, cylinder, cone)
+// that runs hedra::collision::contact() and
 // writes its points into the pair's btPersistentManifold, so that Bullet's
 // own solver (btSequentialImpulseConstraintSolver) stacks bodies on hedra's
 // points. Built against Bullet's double-precision libraries
@@ -7,11 +8,17 @@
 //
 // Conventions converted: Bullet wants the normal on B (from B toward A), the
 // point on B and a signed distance (< 0 penetration); hedra gives the normal
-// from A toward B, the midpoint and the depth (> 0 penetration). Shapes:
-// btBoxShape -> a sharp Box of its outer half extents (with margin, as
-// Bullet's own box-box detector uses them); btConvexHullShape -> a
-// ConvexPolyhedron built once per Bullet shape (scaled points) and cached,
-// rounded by the shape's margin. hedra keeps a hull's vertices relative to
+// from A toward B, the midpoint and the depth (> 0 penetration). Shapes, the
+// same solid Bullet's GJK sees (core + margin):
+//   btBoxShape        a sharp Box of its outer half extents (as Bullet's own
+//                     box-box detector uses them);
+//   btConvexHullShape a ConvexPolyhedron of its scaled points, rounded by the
+//                     margin (built once per Bullet shape and cached);
+//   btSphereShape     Sphere{radius};  btCapsuleShapeZ  Capsule{half height, radius};
+//   btCylinderShapeZ  Cylinder of the half extents without margin, rounded by it;
+//   btConeShapeZ      Cone{radius, height / 2}, rounded by the margin.
+// ShapeCache::set() gives a Bullet shape another hedra shape (a rounded Box for
+// the hull of its corners). hedra keeps a hull's vertices relative to
 // its centroid (ConvexPolyhedron::offset()), so the hull is posed at the
 // body's transform applied to that offset. The speculative contact distance is the
 // manifold's contact-breaking threshold. Each pair keeps its ContactCache.
@@ -42,9 +49,12 @@ struct CachedShape {
 // hedra shapes for Bullet shapes, built once per Bullet shape.
 class ShapeCache {
  public:
-  // Null for shapes other than boxes and hulls (and hulls quickhull rejects).
-  // The pointer stays valid as long as the cache.
+  // Null for other shapes (and hulls quickhull rejects). The pointer stays
+  // valid as long as the cache.
   const CachedShape* get(const btCollisionShape* shape);
+  // `shape` answers for the Bullet shape from now on (call it before the
+  // world steps: get() pointers handed out earlier keep the old shape).
+  void set(const btCollisionShape* bullet, const CachedShape& shape);
 
  private:
   std::mutex mutex_;
@@ -88,8 +98,8 @@ class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
   collision::ContactCache cache_;
 };
 
-// Registers hedra for box-box, box-hull, hull-box and hull-hull pairs in
-// `dispatcher`. `create` and `shapes` must outlive the dispatcher.
+// Registers hedra for every pair of the shapes above in `dispatcher`. `create` and `shapes` must outlive the
+// dispatcher.
 void register_hedra(btCollisionDispatcher& dispatcher, HedraCollisionAlgorithm::CreateFunc& create, ShapeCache& shapes);
 
 }  // namespace hedra::simulate
