@@ -31,7 +31,7 @@
 //
 // World: gravity 9.81 along -z, fixed 60 Hz steps (one substep), 50 solver
 // iterations (a tall stack needs more than Bullet's default 10), friction
-// anchors on every dynamic body (btCollisionObject::CF_HAS_FRICTION_ANCHOR:
+// anchors on every dynamic box and hull (btCollisionObject::CF_HAS_FRICTION_ANCHOR:
 // a contact point whose friction stays inside the Coulomb cone keeps its
 // anchor instead of being replaced each step; without it a resting stack
 // creeps sideways with either narrowphase), Bullet's default sleeping.
@@ -107,8 +107,9 @@ struct SceneReport {
   // start, metres, and that body's size; the piles have no top body (0).
   double top_drift = 0.0;
   double top_size = 0.0;
-  // A built scene (not a pile) stands when every dynamic body ends within a
-  // quarter of its size of its start, turned by less than 0.2 rad.
+  // A built scene (not a pile) stands when every dynamic body ends sideways
+  // within a quarter of its largest extent of its start, turned by less than
+  // 0.2 rad.
   bool built = false;
   bool stands = false;
   bool non_finite = false;  // a NaN or infinity in any body's pose or velocity after any step
