@@ -50,6 +50,71 @@ void polygon_order(const collision::ContactResult& r, int (&order)[collision::kM
     for (int j = k; j > 1 && angle[order[j]] < angle[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
 }
 
+// A hedra feature id in the four integers Bullet keeps per point for
+// triangle meshes (unused by convex pairs), and back.
+void store_id(const collision::FeatureId& id, btManifoldPoint& p) {
+  p.m_partId0 = static_cast<int>(id.kind) | (id.reference_on_b ? 256 : 0);
+  p.m_index0 = static_cast<int>(id.reference);
+  p.m_partId1 = static_cast<int>(id.clip);
+  p.m_index1 = static_cast<int>(id.incident);
+}
+
+bool same_id(const btManifoldPoint& x, const btManifoldPoint& y) {
+  return x.m_partId0 == y.m_partId0 && x.m_index0 == y.m_index0 && x.m_partId1 == y.m_partId1 &&
+         x.m_index1 == y.m_index1;
+}
+
+// Bullet's point for hedra's point `p` (normal `n` from A toward B), in the
+// manifold's body order (its body 0 is A unless `swapped`), with the
+// combined material of the pair, as btManifoldResult::addContactPoint makes it.
+btManifoldPoint bullet_point(const collision::ContactPoint& p, const Eigen::Vector3d& n, const btCollisionObject* a,
+                             const btCollisionObject* b, bool swapped) {
+  const btVector3 on_a = to_bullet(p.point + 0.5 * p.depth * n), on_b = to_bullet(p.point - 0.5 * p.depth * n);
+  const btCollisionObject* body0 = swapped ? b : a;
+  const btCollisionObject* body1 = swapped ? a : b;
+  const btVector3 world0 = swapped ? on_b : on_a, world1 = swapped ? on_a : on_b;
+  // The normal on body 1, pointing from body 1 toward body 0.
+  btManifoldPoint q(body0->getWorldTransform().invXform(world0), body1->getWorldTransform().invXform(world1),
+                    to_bullet(swapped ? n : Eigen::Vector3d(-n)), -p.depth);
+  q.m_positionWorldOnA = world0;
+  q.m_positionWorldOnB = world1;
+  q.m_combinedFriction = btManifoldResult::calculateCombinedFriction(body0, body1);
+  q.m_combinedRestitution = btManifoldResult::calculateCombinedRestitution(body0, body1);
+  q.m_combinedRollingFriction = btManifoldResult::calculateCombinedRollingFriction(body0, body1);
+  q.m_combinedSpinningFriction = btManifoldResult::calculateCombinedSpinningFriction(body0, body1);
+  if ((body0->getCollisionFlags() | body1->getCollisionFlags()) & btCollisionObject::CF_HAS_FRICTION_ANCHOR)
+    q.m_contactPointFlags |= BT_CONTACT_FLAG_FRICTION_ANCHOR;
+  store_id(p.id, q);
+  return q;
+}
+
+// Replaces the manifold's points by hedra's, each carrying over what Bullet
+// kept for the point of the same feature id last frame (warm-start impulses,
+// lifetime, a friction anchor: btPersistentManifold::replaceContactPoint).
+// Bullet's own merge (btManifoldResult::addContactPoint) matches a new point
+// to an old one by distance in body 0's frame and, in a full manifold, evicts
+// by area: on a body sliding over body 0 no point matches, a new point can
+// evict another new one, and the refresh then drops the stale ones.
+void replace_points(const collision::ContactResult& r, const int (&order)[collision::kMaxContactPoints],
+                    const btCollisionObject* a, const btCollisionObject* b, btPersistentManifold& manifold) {
+  btManifoldPoint old[MANIFOLD_CACHE_SIZE];
+  const int old_count = manifold.getNumContacts();
+  for (int k = 0; k < old_count; ++k) old[k] = manifold.getContactPoint(k);
+  manifold.clearManifold();
+  const bool swapped = manifold.getBody0() != a;
+  for (int i = 0; i < r.count && i < MANIFOLD_CACHE_SIZE; ++i) {
+    const btManifoldPoint q = bullet_point(r.points[order[i]], r.normal, a, b, swapped);
+    int match = -1;
+    for (int k = 0; k < old_count && match < 0; ++k)
+      if (same_id(old[k], q)) match = k;
+    if (match < 0) {
+      manifold.addManifoldPoint(q);
+    } else {
+      manifold.replaceContactPoint(q, manifold.addManifoldPoint(old[match], true));
+    }
+  }
+}
+
 // The hedra shape of a Bullet convex primitive; false for other shapes.
 bool primitive_shape(const btCollisionShape* shape, collision::Shape& out) {
   switch (shape->getShapeType()) {
@@ -117,8 +182,8 @@ void ShapeCache::set(const btCollisionShape* bullet, const CachedShape& shape) {
 
 HedraCollisionAlgorithm::HedraCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                                                  const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
-                                                 ShapeCache* shapes)
-    : btActivatingCollisionAlgorithm(ci, a, b), shapes_(shapes) {
+                                                 ShapeCache* shapes, ManifoldUpdate update)
+    : btActivatingCollisionAlgorithm(ci, a, b), shapes_(shapes), update_(update) {
   if (m_dispatcher->needsCollision(a->getCollisionObject(), b->getCollisionObject())) {
     manifold_ = m_dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
     own_manifold_ = true;
@@ -143,11 +208,16 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
   ++g_queries;
   int order[collision::kMaxContactPoints];
   polygon_order(r, order);
-  for (int i = 0; i < r.count; ++i) {
-    const collision::ContactPoint& p = r.points[order[i]];
-    const Eigen::Vector3d on_b = p.point - 0.5 * p.depth * r.normal;
-    result->addContactPoint(to_bullet(-r.normal), to_bullet(on_b), -p.depth);
-    ++g_points;
+  if (update_ == ManifoldUpdate::replace) {
+    replace_points(r, order, a->getCollisionObject(), b->getCollisionObject(), *manifold_);
+    g_points += r.count;
+  } else {
+    for (int i = 0; i < r.count; ++i) {
+      const collision::ContactPoint& p = r.points[order[i]];
+      const Eigen::Vector3d on_b = p.point - 0.5 * p.depth * r.normal;
+      result->addContactPoint(to_bullet(-r.normal), to_bullet(on_b), -p.depth);
+      ++g_points;
+    }
   }
   if (own_manifold_) result->refreshContactPoints();
 }

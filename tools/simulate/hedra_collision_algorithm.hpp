@@ -22,8 +22,11 @@
 // its centroid (ConvexPolyhedron::offset()), so the hull is posed at the
 // body's transform applied to that offset. The speculative contact distance is the
 // manifold's contact-breaking threshold. Each pair keeps its ContactCache.
-// Points go into the manifold deepest first, then around the contact
-// polygon (the order Bullet's solver visits them; see polygon_order()).
+// Each frame hedra's points replace the manifold's (ManifoldUpdate), deepest
+// first, then around the contact polygon (the order Bullet's solver visits
+// them; see polygon_order()); a point keeps its feature id in Bullet's
+// part/index fields, and what Bullet learnt for it (warm-start impulses, a
+// friction anchor) while the same features touch.
 #pragma once
 
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
@@ -61,10 +64,22 @@ class ShapeCache {
   std::map<const btCollisionShape*, std::unique_ptr<CachedShape>> shapes_;
 };
 
+// How hedra's points go into the pair's btPersistentManifold each frame.
+enum class ManifoldUpdate {
+  // hedra's manifold replaces the old points; a new point takes over what
+  // Bullet kept (impulses, lifetime, friction anchor) for the old point of
+  // the same feature id.
+  replace,
+  // Bullet's incremental merge (btManifoldResult::addContactPoint), as for
+  // its own one-point-a-frame detectors: a sliding body loses points.
+  merge,
+};
+
 class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
  public:
   HedraCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* a,
-                          const btCollisionObjectWrapper* b, ShapeCache* shapes);
+                          const btCollisionObjectWrapper* b, ShapeCache* shapes,
+                          ManifoldUpdate update = ManifoldUpdate::replace);
   ~HedraCollisionAlgorithm() override;
 
   void processCollision(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
@@ -79,11 +94,12 @@ class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
 
   struct CreateFunc : public btCollisionAlgorithmCreateFunc {
     ShapeCache* shapes = nullptr;
+    ManifoldUpdate update = ManifoldUpdate::replace;
     btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
                                                    const btCollisionObjectWrapper* a,
                                                    const btCollisionObjectWrapper* b) override {
       void* memory = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(HedraCollisionAlgorithm));
-      return new (memory) HedraCollisionAlgorithm(ci, a, b, shapes);
+      return new (memory) HedraCollisionAlgorithm(ci, a, b, shapes, update);
     }
   };
 
@@ -95,6 +111,7 @@ class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
   btPersistentManifold* manifold_ = nullptr;
   bool own_manifold_ = false;
   ShapeCache* shapes_;
+  ManifoldUpdate update_;
   collision::ContactCache cache_;
 };
 
