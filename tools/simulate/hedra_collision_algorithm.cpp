@@ -1,6 +1,7 @@
 // hedra's contact manifolds as a Bullet collision algorithm (see the header).
 #include "simulate/hedra_collision_algorithm.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <utility>
@@ -50,20 +51,6 @@ void polygon_order(const collision::ContactResult& r, int (&order)[collision::kM
     for (int j = k; j > 1 && angle[order[j]] < angle[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
 }
 
-// A hedra feature id in the four integers Bullet keeps per point for
-// triangle meshes (unused by convex pairs), and back.
-void store_id(const collision::FeatureId& id, btManifoldPoint& p) {
-  p.m_partId0 = static_cast<int>(id.kind) | (id.reference_on_b ? 256 : 0);
-  p.m_index0 = static_cast<int>(id.reference);
-  p.m_partId1 = static_cast<int>(id.clip);
-  p.m_index1 = static_cast<int>(id.incident);
-}
-
-bool same_id(const btManifoldPoint& x, const btManifoldPoint& y) {
-  return x.m_partId0 == y.m_partId0 && x.m_index0 == y.m_index0 && x.m_partId1 == y.m_partId1 &&
-         x.m_index1 == y.m_index1;
-}
-
 // Bullet's point for hedra's point `p` (normal `n` from A toward B), in the
 // manifold's body order (its body 0 is A unless `swapped`), with the
 // combined material of the pair, as btManifoldResult::addContactPoint makes it.
@@ -84,34 +71,79 @@ btManifoldPoint bullet_point(const collision::ContactPoint& p, const Eigen::Vect
   q.m_combinedSpinningFriction = btManifoldResult::calculateCombinedSpinningFriction(body0, body1);
   if ((body0->getCollisionFlags() | body1->getCollisionFlags()) & btCollisionObject::CF_HAS_FRICTION_ANCHOR)
     q.m_contactPointFlags |= BT_CONTACT_FLAG_FRICTION_ANCHOR;
-  store_id(p.id, q);
   return q;
 }
 
-// Replaces the manifold's points by hedra's, each carrying over what Bullet
-// kept for the point of the same feature id last frame (warm-start impulses,
-// lifetime, a friction anchor: btPersistentManifold::replaceContactPoint).
-// Bullet's own merge (btManifoldResult::addContactPoint) matches a new point
-// to an old one by distance in body 0's frame and, in a full manifold, evicts
-// by area: on a body sliding over body 0 no point matches, a new point can
-// evict another new one, and the refresh then drops the stale ones.
-void replace_points(const collision::ContactResult& r, const int (&order)[collision::kMaxContactPoints],
-                    const btCollisionObject* a, const btCollisionObject* b, btPersistentManifold& manifold) {
-  btManifoldPoint old[MANIFOLD_CACHE_SIZE];
-  const int old_count = manifold.getNumContacts();
-  for (int k = 0; k < old_count; ++k) old[k] = manifold.getContactPoint(k);
-  manifold.clearManifold();
+// The manifold's point that `q` continues, as Bullet's getCacheEntry finds
+// it (the nearest within the breaking threshold in body 0's frame), among
+// the points not written this frame; -1 if none.
+int continued(const btPersistentManifold& manifold, const btManifoldPoint& q,
+              const bool (&fresh)[MANIFOLD_CACHE_SIZE]) {
+  int match = -1;
+  double nearest = manifold.getContactBreakingThreshold() * manifold.getContactBreakingThreshold();
+  for (int k = 0; k < manifold.getNumContacts(); ++k) {
+    const double d2 = (manifold.getContactPoint(k).m_localPointA - q.m_localPointA).length2();
+    if (!fresh[k] && d2 < nearest) {
+      nearest = d2;
+      match = k;
+    }
+  }
+  return match;
+}
+
+// Twice the largest area of a quadrilateral through four points, over the
+// three ways of pairing them as diagonals.
+double quad_area(const btVector3 (&p)[MANIFOLD_CACHE_SIZE]) {
+  const double a = (p[0] - p[1]).cross(p[2] - p[3]).length2();
+  const double b = (p[0] - p[2]).cross(p[1] - p[3]).length2();
+  const double c = (p[0] - p[3]).cross(p[1] - p[2]).length2();
+  return std::max({a, b, c});
+}
+
+// The old point `q` replaces in a full manifold: among those not written
+// this frame, the one whose replacement leaves the widest quadrilateral (the
+// area rule of Bullet's btPersistentManifold::sortCachedPoints, which keeps
+// the support of a resting body wide).
+int stale(const btPersistentManifold& manifold, const btManifoldPoint& q, const bool (&fresh)[MANIFOLD_CACHE_SIZE]) {
+  int out = -1;
+  double widest = -1.0;
+  for (int k = 0; k < MANIFOLD_CACHE_SIZE; ++k) {
+    if (fresh[k]) continue;
+    btVector3 p[MANIFOLD_CACHE_SIZE];
+    for (int j = 0; j < MANIFOLD_CACHE_SIZE; ++j)
+      p[j] = j == k ? q.m_localPointA : manifold.getContactPoint(j).m_localPointA;
+    const double area = quad_area(p);
+    if (area > widest) {
+      widest = area;
+      out = k;
+    }
+  }
+  return out;
+}
+
+// Bullet's merge of a frame's points into the persistent manifold, made for
+// a full manifold: the old points that no longer hold at the current poses
+// go first, a new point continues the old one Bullet would match (keeping
+// its warm start and friction anchor: btPersistentManifold::
+// replaceContactPoint), and a new point never evicts another of the same
+// frame (Bullet's area rule, made for one new point a frame, may).
+void merge_points(const collision::ContactResult& r, const int (&order)[collision::kMaxContactPoints],
+                  const btCollisionObject* a, const btCollisionObject* b, btPersistentManifold& manifold) {
+  manifold.refreshContactPoints(manifold.getBody0()->getWorldTransform(), manifold.getBody1()->getWorldTransform());
+  bool fresh[MANIFOLD_CACHE_SIZE] = {};
   const bool swapped = manifold.getBody0() != a;
   for (int i = 0; i < r.count && i < MANIFOLD_CACHE_SIZE; ++i) {
     const btManifoldPoint q = bullet_point(r.points[order[i]], r.normal, a, b, swapped);
-    int match = -1;
-    for (int k = 0; k < old_count && match < 0; ++k)
-      if (same_id(old[k], q)) match = k;
-    if (match < 0) {
-      manifold.addManifoldPoint(q);
+    int slot = continued(manifold, q, fresh);
+    if (slot >= 0) {
+      manifold.replaceContactPoint(q, slot);
+    } else if (manifold.getNumContacts() < MANIFOLD_CACHE_SIZE) {
+      slot = manifold.addManifoldPoint(q, true);
     } else {
-      manifold.replaceContactPoint(q, manifold.addManifoldPoint(old[match], true));
+      slot = stale(manifold, q, fresh);
+      manifold.getContactPoint(slot) = q;
     }
+    fresh[slot] = true;
   }
 }
 
@@ -208,8 +240,8 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
   ++g_queries;
   int order[collision::kMaxContactPoints];
   polygon_order(r, order);
-  if (update_ == ManifoldUpdate::replace) {
-    replace_points(r, order, a->getCollisionObject(), b->getCollisionObject(), *manifold_);
+  if (update_ == ManifoldUpdate::keep_new) {
+    merge_points(r, order, a->getCollisionObject(), b->getCollisionObject(), *manifold_);
     g_points += r.count;
   } else {
     for (int i = 0; i < r.count; ++i) {

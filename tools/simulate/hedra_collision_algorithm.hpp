@@ -22,11 +22,9 @@
 // its centroid (ConvexPolyhedron::offset()), so the hull is posed at the
 // body's transform applied to that offset. The speculative contact distance is the
 // manifold's contact-breaking threshold. Each pair keeps its ContactCache.
-// Each frame hedra's points replace the manifold's (ManifoldUpdate), deepest
-// first, then around the contact polygon (the order Bullet's solver visits
-// them; see polygon_order()); a point keeps its feature id in Bullet's
-// part/index fields, and what Bullet learnt for it (warm-start impulses, a
-// friction anchor) while the same features touch.
+// Each frame hedra's points are merged into the manifold (ManifoldUpdate),
+// deepest first, then around the contact polygon (the order Bullet's solver
+// visits them; see polygon_order()).
 #pragma once
 
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
@@ -66,20 +64,22 @@ class ShapeCache {
 
 // How hedra's points go into the pair's btPersistentManifold each frame.
 enum class ManifoldUpdate {
-  // hedra's manifold replaces the old points; a new point takes over what
-  // Bullet kept (impulses, lifetime, friction anchor) for the old point of
-  // the same feature id.
-  replace,
-  // Bullet's incremental merge (btManifoldResult::addContactPoint), as for
-  // its own one-point-a-frame detectors: a sliding body loses points.
-  merge,
+  // Bullet's merge made for a whole manifold a frame (merge_points() in the
+  // source): stale old points dropped first, a new point continuing the old
+  // one Bullet matches (warm start, friction anchor), and no new point
+  // evicting another of the same frame.
+  keep_new,
+  // Bullet's own merge (btManifoldResult::addContactPoint), made for
+  // detectors that add one point a frame: in a full manifold a new point
+  // can evict one added just before, and a sliding body loses points.
+  bullet,
 };
 
 class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
  public:
   HedraCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* a,
                           const btCollisionObjectWrapper* b, ShapeCache* shapes,
-                          ManifoldUpdate update = ManifoldUpdate::replace);
+                          ManifoldUpdate update = ManifoldUpdate::keep_new);
   ~HedraCollisionAlgorithm() override;
 
   void processCollision(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
@@ -94,7 +94,7 @@ class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
 
   struct CreateFunc : public btCollisionAlgorithmCreateFunc {
     ShapeCache* shapes = nullptr;
-    ManifoldUpdate update = ManifoldUpdate::replace;
+    ManifoldUpdate update = ManifoldUpdate::keep_new;
     btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
                                                    const btCollisionObjectWrapper* a,
                                                    const btCollisionObjectWrapper* b) override {

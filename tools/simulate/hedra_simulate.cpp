@@ -120,6 +120,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 10000));
   app.add_flag("--no-sleep", no_sleep, "keep every body awake (Bullet's deactivation off)");
   app.add_flag("--no-anchors", no_anchors, "no friction anchors");
+  app.add_flag("--bullet-merge", settings.bullet_merge,
+               "hedra's points merged one by one by Bullet's btManifoldResult (not keep_new)");
   CLI11_PARSE(app, argc, argv);
 
   if (scene_name == "projectile") {

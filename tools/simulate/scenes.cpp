@@ -55,6 +55,7 @@ class World {
         rng_(settings.seed * 7919u + 13u) {
     // hedra: every convex pair goes to hedra's contact(); other pairs keep
     // Bullet's algorithm.
+    if (settings.bullet_merge) create_.update = ManifoldUpdate::bullet;
     if (settings.narrowphase == Narrowphase::hedra) register_hedra(dispatcher_, create_, shapes_);
     world_.setGravity(btVector3(0, 0, -kGravity));
     world_.getSolverInfo().m_numIterations = settings.solver_iterations;

@@ -97,6 +97,9 @@ struct SceneSettings {
   unsigned seed = 1;          // the piles' hulls and the perturbation
   double perturbation = 0.0;  // the start's sideways offset (fraction of a body's size) and turn (rad)
   int solver_iterations = 50;
+  // hedra's points merged by Bullet's btManifoldResult::addContactPoint
+  // instead of ManifoldUpdate::keep_new (hedra_collision_algorithm.hpp).
+  bool bullet_merge = false;
 };
 
 struct SceneReport {
