@@ -1,30 +1,33 @@
 // hedra's contact manifolds inside Bullet's dynamics: a btCollisionAlgorithm
 // for Bullet's convex primitives (box, hull, sphere, capsule, cylinder, cone)
-// that runs hedra::collision::contact() and
-// writes its points into the pair's btPersistentManifold, so that Bullet's
-// own solver (btSequentialImpulseConstraintSolver) stacks bodies on hedra's
-// points. Built against Bullet's double-precision libraries
-// (BT_USE_DOUBLE_PRECISION), like hedra.
+// that runs hedra::collision::contact() and merges its points into the
+// pair's btPersistentManifold, so that Bullet's own solver
+// (btSequentialImpulseConstraintSolver) stacks bodies on hedra's points.
+// Built against Bullet's double-precision libraries (BT_USE_DOUBLE_PRECISION),
+// like hedra.
 //
 // Conventions converted: Bullet wants the normal on B (from B toward A), the
 // point on B and a signed distance (< 0 penetration); hedra gives the normal
 // from A toward B, the midpoint and the depth (> 0 penetration). Shapes, the
-// same solid Bullet's GJK sees (core + margin):
+// solid Bullet's GJK sees (core + margin), but for boxes:
 //   btBoxShape        a sharp Box of its outer half extents (as Bullet's own
-//                     box-box detector uses them);
+//                     box-box detector uses them; its GJK rounds the corners);
 //   btConvexHullShape a ConvexPolyhedron of its scaled points, rounded by the
 //                     margin (built once per Bullet shape and cached);
 //   btSphereShape     Sphere{radius};  btCapsuleShapeZ  Capsule{half height, radius};
 //   btCylinderShapeZ  Cylinder of the half extents without margin, rounded by it;
 //   btConeShapeZ      Cone{radius, height / 2}, rounded by the margin.
-// ShapeCache::set() gives a Bullet shape another hedra shape (a rounded Box for
-// the hull of its corners). hedra keeps a hull's vertices relative to
-// its centroid (ConvexPolyhedron::offset()), so the hull is posed at the
-// body's transform applied to that offset. The speculative contact distance is the
+// ShapeCache::set() gives a Bullet shape another hedra shape (a rounded Box
+// for the hull of its corners). hedra keeps a hull's vertices relative to its
+// centroid (ConvexPolyhedron::offset()), so the hull is posed at the body's
+// transform applied to that offset. The speculative contact distance is the
 // manifold's contact-breaking threshold. Each pair keeps its ContactCache.
 // Each frame hedra's points are merged into the manifold (ManifoldUpdate),
 // deepest first, then around the contact polygon (the order Bullet's solver
-// visits them; see polygon_order()).
+// visits them; see polygon_order()). The keep_new merge writes Bullet's
+// points itself: it sets the combined friction, restitution, rolling and
+// spinning friction and the friction anchor, not contact stiffness or
+// damping, and calls no gContactAddedCallback.
 #pragma once
 
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
