@@ -230,8 +230,16 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
                                                const btDispatcherInfo&, btManifoldResult* result) {
   if (!manifold_) return;
   result->setPersistentManifold(manifold_);
-  const CachedShape* sa = shapes_->get(a->getCollisionShape());
-  const CachedShape* sb = shapes_->get(b->getCollisionShape());
+  // The pair's two hedra shapes, looked up (under the cache's lock) only
+  // when a Bullet shape changes.
+  if (a->getCollisionShape() != bullet_a_ || b->getCollisionShape() != bullet_b_) {
+    bullet_a_ = a->getCollisionShape();
+    bullet_b_ = b->getCollisionShape();
+    shape_a_ = shapes_->get(bullet_a_);
+    shape_b_ = shapes_->get(bullet_b_);
+  }
+  const CachedShape* sa = shape_a_;
+  const CachedShape* sb = shape_b_;
   if (!sa || !sb) return;
   collision::ContactSettings settings;
   settings.contact_distance = manifold_->getContactBreakingThreshold();

@@ -114,6 +114,10 @@ class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
   btPersistentManifold* manifold_ = nullptr;
   bool own_manifold_ = false;
   ShapeCache* shapes_;
+  const btCollisionShape* bullet_a_ = nullptr;
+  const btCollisionShape* bullet_b_ = nullptr;
+  const CachedShape* shape_a_ = nullptr;
+  const CachedShape* shape_b_ = nullptr;
   ManifoldUpdate update_;
   collision::ContactCache cache_;
 };
