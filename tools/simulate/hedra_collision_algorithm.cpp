@@ -140,7 +140,8 @@ void merge_points(const collision::ContactResult& r, const int (&order)[collisio
     } else if (manifold.getNumContacts() < MANIFOLD_CACHE_SIZE) {
       slot = manifold.addManifoldPoint(q, true);
     } else {
-      slot = stale(manifold, q, fresh);
+      slot = stale(manifold, q, fresh);  // some point is old: at most 3 of 4 written yet
+      btAssert(slot >= 0);
       manifold.getContactPoint(slot) = q;
     }
     fresh[slot] = true;
