@@ -10,8 +10,8 @@
 // 1,000 kg (squeezed out within a second) and the capsule standing on its
 // round end (an unstable balance). The plates' bound is the solver's
 // resting depth (about 1 mm, 10 % of a 1 cm plate; Bullet's narrowphase:
-// 19 %). One ctest per scene; the 60-hull piles are the longest (about 1 s
-// each in a release build).
+// 19 %). One ctest per scene; the 60-hull piles are the longest (1 to 3 s
+// each in a release build, 13 and 22 s under ASan + UBSan at -O1).
 #include <gtest/gtest.h>
 
 #include <cstdio>
