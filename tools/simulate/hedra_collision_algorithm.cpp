@@ -1,6 +1,7 @@
 // hedra's contact manifolds as a Bullet collision algorithm (see the header).
 #include "simulate/hedra_collision_algorithm.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <utility>
@@ -50,6 +51,136 @@ void polygon_order(const collision::ContactResult& r, int (&order)[collision::kM
     for (int j = k; j > 1 && angle[order[j]] < angle[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
 }
 
+// Bullet's point for hedra's point `p` (normal `n` from A toward B), in the
+// manifold's body order (its body 0 is A unless `swapped`), with the
+// combined material of the pair, as btManifoldResult::addContactPoint makes it.
+btManifoldPoint bullet_point(const collision::ContactPoint& p, const Eigen::Vector3d& n, const btCollisionObject* a,
+                             const btCollisionObject* b, bool swapped) {
+  const btVector3 on_a = to_bullet(p.point + 0.5 * p.depth * n), on_b = to_bullet(p.point - 0.5 * p.depth * n);
+  const btCollisionObject* body0 = swapped ? b : a;
+  const btCollisionObject* body1 = swapped ? a : b;
+  const btVector3 world0 = swapped ? on_b : on_a, world1 = swapped ? on_a : on_b;
+  // The normal on body 1, pointing from body 1 toward body 0.
+  btManifoldPoint q(body0->getWorldTransform().invXform(world0), body1->getWorldTransform().invXform(world1),
+                    to_bullet(swapped ? n : Eigen::Vector3d(-n)), -p.depth);
+  q.m_positionWorldOnA = world0;
+  q.m_positionWorldOnB = world1;
+  q.m_combinedFriction = btManifoldResult::calculateCombinedFriction(body0, body1);
+  q.m_combinedRestitution = btManifoldResult::calculateCombinedRestitution(body0, body1);
+  q.m_combinedRollingFriction = btManifoldResult::calculateCombinedRollingFriction(body0, body1);
+  q.m_combinedSpinningFriction = btManifoldResult::calculateCombinedSpinningFriction(body0, body1);
+  if ((body0->getCollisionFlags() | body1->getCollisionFlags()) & btCollisionObject::CF_HAS_FRICTION_ANCHOR)
+    q.m_contactPointFlags |= BT_CONTACT_FLAG_FRICTION_ANCHOR;
+  return q;
+}
+
+// The manifold's point that `q` continues, as Bullet's getCacheEntry finds
+// it (the nearest within the breaking threshold in body 0's frame), among
+// the points not written this frame; -1 if none.
+int continued(const btPersistentManifold& manifold, const btManifoldPoint& q,
+              const bool (&fresh)[MANIFOLD_CACHE_SIZE]) {
+  int match = -1;
+  double nearest = manifold.getContactBreakingThreshold() * manifold.getContactBreakingThreshold();
+  for (int k = 0; k < manifold.getNumContacts(); ++k) {
+    const double d2 = (manifold.getContactPoint(k).m_localPointA - q.m_localPointA).length2();
+    if (!fresh[k] && d2 < nearest) {
+      nearest = d2;
+      match = k;
+    }
+  }
+  return match;
+}
+
+// Twice the largest area of a quadrilateral through four points, over the
+// three ways of pairing them as diagonals.
+double quad_area(const btVector3 (&p)[MANIFOLD_CACHE_SIZE]) {
+  const double a = (p[0] - p[1]).cross(p[2] - p[3]).length2();
+  const double b = (p[0] - p[2]).cross(p[1] - p[3]).length2();
+  const double c = (p[0] - p[3]).cross(p[1] - p[2]).length2();
+  return std::max({a, b, c});
+}
+
+// The old point `q` replaces in a full manifold: among those not written
+// this frame, the one whose replacement leaves the widest quadrilateral (the
+// area rule of Bullet's btPersistentManifold::sortCachedPoints, which keeps
+// the support of a resting body wide).
+int stale(const btPersistentManifold& manifold, const btManifoldPoint& q, const bool (&fresh)[MANIFOLD_CACHE_SIZE]) {
+  int out = -1;
+  double widest = -1.0;
+  for (int k = 0; k < MANIFOLD_CACHE_SIZE; ++k) {
+    if (fresh[k]) continue;
+    btVector3 p[MANIFOLD_CACHE_SIZE];
+    for (int j = 0; j < MANIFOLD_CACHE_SIZE; ++j)
+      p[j] = j == k ? q.m_localPointA : manifold.getContactPoint(j).m_localPointA;
+    const double area = quad_area(p);
+    if (area > widest) {
+      widest = area;
+      out = k;
+    }
+  }
+  return out;
+}
+
+// Bullet's merge of a frame's points into the persistent manifold, made for
+// a full manifold: the old points that no longer hold at the current poses
+// go first, a new point continues the old one Bullet would match (keeping
+// its warm start and friction anchor: btPersistentManifold::
+// replaceContactPoint), and a new point never evicts another of the same
+// frame (Bullet's area rule, made for one new point a frame, may).
+void merge_points(const collision::ContactResult& r, const int (&order)[collision::kMaxContactPoints],
+                  const btCollisionObject* a, const btCollisionObject* b, btPersistentManifold& manifold) {
+  manifold.refreshContactPoints(manifold.getBody0()->getWorldTransform(), manifold.getBody1()->getWorldTransform());
+  bool fresh[MANIFOLD_CACHE_SIZE] = {};
+  const bool swapped = manifold.getBody0() != a;
+  for (int i = 0; i < r.count && i < MANIFOLD_CACHE_SIZE; ++i) {
+    const btManifoldPoint q = bullet_point(r.points[order[i]], r.normal, a, b, swapped);
+    int slot = continued(manifold, q, fresh);
+    if (slot >= 0) {
+      manifold.replaceContactPoint(q, slot);
+    } else if (manifold.getNumContacts() < MANIFOLD_CACHE_SIZE) {
+      slot = manifold.addManifoldPoint(q, true);
+    } else {
+      slot = stale(manifold, q, fresh);  // some point is old: at most 3 of 4 written yet
+      btAssert(slot >= 0);
+      manifold.getContactPoint(slot) = q;
+    }
+    fresh[slot] = true;
+  }
+}
+
+// The hedra shape of a Bullet convex primitive; false for other shapes.
+bool primitive_shape(const btCollisionShape* shape, collision::Shape& out) {
+  switch (shape->getShapeType()) {
+    case BOX_SHAPE_PROXYTYPE:
+      out = collision::Box{to_eigen(static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin())};
+      return true;
+    case SPHERE_SHAPE_PROXYTYPE:
+      out = collision::Sphere{static_cast<const btSphereShape*>(shape)->getRadius()};
+      return true;
+    case CAPSULE_SHAPE_PROXYTYPE: {
+      const auto* capsule = static_cast<const btCapsuleShape*>(shape);
+      if (capsule->getUpAxis() != 2) return false;
+      out = collision::Capsule{capsule->getHalfHeight(), capsule->getRadius()};
+      return true;
+    }
+    case CYLINDER_SHAPE_PROXYTYPE: {
+      const auto* cylinder = static_cast<const btCylinderShape*>(shape);
+      if (cylinder->getUpAxis() != 2) return false;
+      const btVector3 core = cylinder->getHalfExtentsWithoutMargin();
+      out = collision::Cylinder{core.x(), core.z(), cylinder->getMargin()};
+      return true;
+    }
+    case CONE_SHAPE_PROXYTYPE: {
+      const auto* cone = static_cast<const btConeShape*>(shape);
+      if (cone->getConeUpIndex() != 2) return false;
+      out = collision::Cone{cone->getRadius(), 0.5 * cone->getHeight(), cone->getMargin()};
+      return true;
+    }
+    default:
+      return false;
+  }
+}
+
 }  // namespace
 
 collision::Pose CachedShape::pose(const btTransform& world) const {
@@ -63,10 +194,7 @@ const CachedShape* ShapeCache::get(const btCollisionShape* shape) {
   const auto found = shapes_.find(shape);
   if (found != shapes_.end()) return found->second.get();
   auto made = std::make_unique<CachedShape>();
-  if (shape->getShapeType() == BOX_SHAPE_PROXYTYPE) {
-    const auto* box = static_cast<const btBoxShape*>(shape);
-    made->shape = collision::Box{to_eigen(box->getHalfExtentsWithMargin())};
-  } else if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
+  if (shape->getShapeType() == CONVEX_HULL_SHAPE_PROXYTYPE) {
     const auto* hull = static_cast<const btConvexHullShape*>(shape);
     std::vector<Eigen::Vector3d> points;
     for (int i = 0; i < hull->getNumPoints(); ++i) points.push_back(to_eigen(hull->getScaledPoint(i)));
@@ -74,16 +202,21 @@ const CachedShape* ShapeCache::get(const btCollisionShape* shape) {
     if (!built.ok()) return nullptr;
     made->shape = collision::Polyhedron{built.polyhedron, hull->getMargin()};
     made->offset = built.polyhedron->offset();
-  } else {
+  } else if (!primitive_shape(shape, made->shape)) {
     return nullptr;
   }
   return shapes_.emplace(shape, std::move(made)).first->second.get();
 }
 
+void ShapeCache::set(const btCollisionShape* bullet, const CachedShape& shape) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  shapes_[bullet] = std::make_unique<CachedShape>(shape);
+}
+
 HedraCollisionAlgorithm::HedraCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                                                  const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
-                                                 ShapeCache* shapes)
-    : btActivatingCollisionAlgorithm(ci, a, b), shapes_(shapes) {
+                                                 ShapeCache* shapes, ManifoldUpdate update)
+    : btActivatingCollisionAlgorithm(ci, a, b), shapes_(shapes), update_(update) {
   if (m_dispatcher->needsCollision(a->getCollisionObject(), b->getCollisionObject())) {
     manifold_ = m_dispatcher->getNewManifold(a->getCollisionObject(), b->getCollisionObject());
     own_manifold_ = true;
@@ -98,8 +231,16 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
                                                const btDispatcherInfo&, btManifoldResult* result) {
   if (!manifold_) return;
   result->setPersistentManifold(manifold_);
-  const CachedShape* sa = shapes_->get(a->getCollisionShape());
-  const CachedShape* sb = shapes_->get(b->getCollisionShape());
+  // The pair's two hedra shapes, looked up (under the cache's lock) only
+  // when a Bullet shape changes.
+  if (a->getCollisionShape() != bullet_a_ || b->getCollisionShape() != bullet_b_) {
+    bullet_a_ = a->getCollisionShape();
+    bullet_b_ = b->getCollisionShape();
+    shape_a_ = shapes_->get(bullet_a_);
+    shape_b_ = shapes_->get(bullet_b_);
+  }
+  const CachedShape* sa = shape_a_;
+  const CachedShape* sb = shape_b_;
   if (!sa || !sb) return;
   collision::ContactSettings settings;
   settings.contact_distance = manifold_->getContactBreakingThreshold();
@@ -108,11 +249,16 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
   ++g_queries;
   int order[collision::kMaxContactPoints];
   polygon_order(r, order);
-  for (int i = 0; i < r.count; ++i) {
-    const collision::ContactPoint& p = r.points[order[i]];
-    const Eigen::Vector3d on_b = p.point - 0.5 * p.depth * r.normal;
-    result->addContactPoint(to_bullet(-r.normal), to_bullet(on_b), -p.depth);
-    ++g_points;
+  if (update_ == ManifoldUpdate::keep_new) {
+    merge_points(r, order, a->getCollisionObject(), b->getCollisionObject(), *manifold_);
+    g_points += r.count;
+  } else {
+    for (int i = 0; i < r.count; ++i) {
+      const collision::ContactPoint& p = r.points[order[i]];
+      const Eigen::Vector3d on_b = p.point - 0.5 * p.depth * r.normal;
+      result->addContactPoint(to_bullet(-r.normal), to_bullet(on_b), -p.depth);
+      ++g_points;
+    }
   }
   if (own_manifold_) result->refreshContactPoints();
 }
@@ -123,9 +269,10 @@ long HedraCollisionAlgorithm::points() { return g_points.load(); }
 void register_hedra(btCollisionDispatcher& dispatcher, HedraCollisionAlgorithm::CreateFunc& create,
                     ShapeCache& shapes) {
   create.shapes = &shapes;
-  for (const int x : {BOX_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE})
-    for (const int y : {BOX_SHAPE_PROXYTYPE, CONVEX_HULL_SHAPE_PROXYTYPE})
-      dispatcher.registerCollisionCreateFunc(x, y, &create);
+  const int types[] = {BOX_SHAPE_PROXYTYPE,     CONVEX_HULL_SHAPE_PROXYTYPE, SPHERE_SHAPE_PROXYTYPE,
+                       CAPSULE_SHAPE_PROXYTYPE, CYLINDER_SHAPE_PROXYTYPE,    CONE_SHAPE_PROXYTYPE};
+  for (const int x : types)
+    for (const int y : types) dispatcher.registerCollisionCreateFunc(x, y, &create);
 }
 
 }  // namespace hedra::simulate

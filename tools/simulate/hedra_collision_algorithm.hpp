@@ -1,22 +1,33 @@
 // hedra's contact manifolds inside Bullet's dynamics: a btCollisionAlgorithm
-// for box and convex-hull shapes that runs hedra::collision::contact() and
-// writes its points into the pair's btPersistentManifold, so that Bullet's
-// own solver (btSequentialImpulseConstraintSolver) stacks bodies on hedra's
-// points. Built against Bullet's double-precision libraries
-// (BT_USE_DOUBLE_PRECISION), like hedra.
+// for Bullet's convex primitives (box, hull, sphere, capsule, cylinder, cone)
+// that runs hedra::collision::contact() and merges its points into the
+// pair's btPersistentManifold, so that Bullet's own solver
+// (btSequentialImpulseConstraintSolver) stacks bodies on hedra's points.
+// Built against Bullet's double-precision libraries (BT_USE_DOUBLE_PRECISION),
+// like hedra.
 //
 // Conventions converted: Bullet wants the normal on B (from B toward A), the
 // point on B and a signed distance (< 0 penetration); hedra gives the normal
-// from A toward B, the midpoint and the depth (> 0 penetration). Shapes:
-// btBoxShape -> a sharp Box of its outer half extents (with margin, as
-// Bullet's own box-box detector uses them); btConvexHullShape -> a
-// ConvexPolyhedron built once per Bullet shape (scaled points) and cached,
-// rounded by the shape's margin. hedra keeps a hull's vertices relative to
-// its centroid (ConvexPolyhedron::offset()), so the hull is posed at the
-// body's transform applied to that offset. The speculative contact distance is the
+// from A toward B, the midpoint and the depth (> 0 penetration). Shapes, the
+// solid Bullet's GJK sees (core + margin), but for boxes:
+//   btBoxShape        a sharp Box of its outer half extents (as Bullet's own
+//                     box-box detector uses them; its GJK rounds the corners);
+//   btConvexHullShape a ConvexPolyhedron of its scaled points, rounded by the
+//                     margin (built once per Bullet shape and cached);
+//   btSphereShape     Sphere{radius};  btCapsuleShapeZ  Capsule{half height, radius};
+//   btCylinderShapeZ  Cylinder of the half extents without margin, rounded by it;
+//   btConeShapeZ      Cone{radius, height / 2}, rounded by the margin.
+// ShapeCache::set() gives a Bullet shape another hedra shape (a rounded Box
+// for the hull of its corners). hedra keeps a hull's vertices relative to its
+// centroid (ConvexPolyhedron::offset()), so the hull is posed at the body's
+// transform applied to that offset. The speculative contact distance is the
 // manifold's contact-breaking threshold. Each pair keeps its ContactCache.
-// Points go into the manifold deepest first, then around the contact
-// polygon (the order Bullet's solver visits them; see polygon_order()).
+// Each frame hedra's points are merged into the manifold (ManifoldUpdate),
+// deepest first, then around the contact polygon (the order Bullet's solver
+// visits them; see polygon_order()). The keep_new merge writes Bullet's
+// points itself: it sets the combined friction, restitution, rolling and
+// spinning friction and the friction anchor, not contact stiffness or
+// damping, and calls no gContactAddedCallback.
 #pragma once
 
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
@@ -42,19 +53,36 @@ struct CachedShape {
 // hedra shapes for Bullet shapes, built once per Bullet shape.
 class ShapeCache {
  public:
-  // Null for shapes other than boxes and hulls (and hulls quickhull rejects).
-  // The pointer stays valid as long as the cache.
+  // Null for other shapes (and hulls quickhull rejects). The pointer stays
+  // valid as long as the cache.
   const CachedShape* get(const btCollisionShape* shape);
+  // `shape` answers for the Bullet shape from now on (call it before the
+  // world steps: get() pointers handed out earlier keep the old shape).
+  void set(const btCollisionShape* bullet, const CachedShape& shape);
 
  private:
   std::mutex mutex_;
   std::map<const btCollisionShape*, std::unique_ptr<CachedShape>> shapes_;
 };
 
+// How hedra's points go into the pair's btPersistentManifold each frame.
+enum class ManifoldUpdate {
+  // Bullet's merge made for a whole manifold a frame (merge_points() in the
+  // source): stale old points dropped first, a new point continuing the old
+  // one Bullet matches (warm start, friction anchor), and no new point
+  // evicting another of the same frame.
+  keep_new,
+  // Bullet's own merge (btManifoldResult::addContactPoint), made for
+  // detectors that add one point a frame: in a full manifold a new point
+  // can evict one added just before, and a sliding body loses points.
+  bullet,
+};
+
 class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
  public:
   HedraCollisionAlgorithm(const btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* a,
-                          const btCollisionObjectWrapper* b, ShapeCache* shapes);
+                          const btCollisionObjectWrapper* b, ShapeCache* shapes,
+                          ManifoldUpdate update = ManifoldUpdate::keep_new);
   ~HedraCollisionAlgorithm() override;
 
   void processCollision(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
@@ -69,11 +97,12 @@ class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
 
   struct CreateFunc : public btCollisionAlgorithmCreateFunc {
     ShapeCache* shapes = nullptr;
+    ManifoldUpdate update = ManifoldUpdate::keep_new;
     btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
                                                    const btCollisionObjectWrapper* a,
                                                    const btCollisionObjectWrapper* b) override {
       void* memory = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(HedraCollisionAlgorithm));
-      return new (memory) HedraCollisionAlgorithm(ci, a, b, shapes);
+      return new (memory) HedraCollisionAlgorithm(ci, a, b, shapes, update);
     }
   };
 
@@ -85,11 +114,16 @@ class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
   btPersistentManifold* manifold_ = nullptr;
   bool own_manifold_ = false;
   ShapeCache* shapes_;
+  const btCollisionShape* bullet_a_ = nullptr;
+  const btCollisionShape* bullet_b_ = nullptr;
+  const CachedShape* shape_a_ = nullptr;
+  const CachedShape* shape_b_ = nullptr;
+  ManifoldUpdate update_;
   collision::ContactCache cache_;
 };
 
-// Registers hedra for box-box, box-hull, hull-box and hull-hull pairs in
-// `dispatcher`. `create` and `shapes` must outlive the dispatcher.
+// Registers hedra for every pair of the shapes above in `dispatcher`. `create` and `shapes` must outlive the
+// dispatcher.
 void register_hedra(btCollisionDispatcher& dispatcher, HedraCollisionAlgorithm::CreateFunc& create, ShapeCache& shapes);
 
 }  // namespace hedra::simulate
