@@ -136,6 +136,7 @@ struct WorldFrame {
   Vec offset;
   Vec point(const Vec& x) const { return pose.rotation * (offset + x) + pose.translation; }
   Vec direction(const Vec& d) const { return pose.rotation * d; }
+  Vec local(const Vec& x) const { return pose.rotation.transpose() * (x - pose.translation) - offset; }
 };
 
 // Shifts the cores' candidates by the radii, keeps those separated by at
@@ -695,18 +696,35 @@ Index face_along(const SatPolytope& poly, const Vec& n, double cos_tol) {
   return face;
 }
 
-// Segment s0-s1 (A's frame, on B's core) clipped by the side planes of face f.
-bool segment_on_face(const SatPolytope& poly, Index f, const Vec& s0, const Vec& s1, double tol, CandidateList& out) {
+// The side plane of half-edge e of a face of `poly` swept along n (A's frame,
+// within the angle tolerance of the face's normal), outward: a point lies
+// inside every swept side plane when its projection along n onto the face's
+// plane lies inside the face.
+Vec swept_side(const SatPolytope& poly, Index e, const Vec& n) {
   const hull::HalfEdgeMesh& m = *poly.mesh;
-  const hull::Plane& plane = poly.plane(f);
+  return (poly.vertex(m.destination(e)) - poly.vertex(m.origin(e))).cross(n);
+}
+
+// A point x of B's core against the plane of a face of A along the normal n:
+// its foot on the plane along n, and its separation along n.
+void push_along(const hull::Plane& plane, const Vec& n, const Vec& x, const FeatureId& id, CandidateList& out) {
+  const double s = plane.signed_distance(x) / plane.normal.dot(n);
+  out.push(x - s * n, x, s, id);
+}
+
+// Segment s0-s1 (A's frame, on B's core) clipped by the side planes of face f
+// swept along the normal n.
+bool segment_on_face(const SatPolytope& poly, Index f, const Vec& n, const Vec& s0, const Vec& s1, double tol,
+                     CandidateList& out) {
+  const hull::HalfEdgeMesh& m = *poly.mesh;
   std::array<Vec, 4> buf_a{s0, s1}, buf_b;
   Vec* src = buf_a.data();
   Vec* dst = buf_b.data();
   std::size_t count = 2;
   for (const Index e : m.face_edges(f)) {
-    const Vec p0 = poly.vertex(m.origin(e));
-    const Vec side = (poly.vertex(m.destination(e)) - p0).cross(plane.normal);
-    const hull::ClipResult r = hull::clip_polygon(src, count, {side, side.dot(p0)}, dst, buf_b.size(), tol);
+    const Vec side = swept_side(poly, e, n);
+    const hull::ClipResult r =
+        hull::clip_polygon(src, count, {side, side.dot(poly.vertex(m.origin(e)))}, dst, buf_b.size(), tol);
     if (r.status != hull::ClipStatus::ok) return false;
     count = r.count;
     std::swap(src, dst);
@@ -724,9 +742,7 @@ bool segment_on_face(const SatPolytope& poly, Index f, const Vec& s0, const Vec&
     } else {
       double best = std::numeric_limits<double>::infinity();
       for (const Index e : m.face_edges(f)) {
-        const Vec p0 = poly.vertex(m.origin(e));
-        const Vec side = (poly.vertex(m.destination(e)) - p0).cross(plane.normal).normalized();
-        const double d = std::abs(side.dot(p - p0));
+        const double d = std::abs(swept_side(poly, e, n).normalized().dot(p - poly.vertex(m.origin(e))));
         if (d < best) {
           best = d;
           id.clip = e;
@@ -734,24 +750,26 @@ bool segment_on_face(const SatPolytope& poly, Index f, const Vec& s0, const Vec&
       }
       id.incident = 2;
     }
-    const double s = plane.signed_distance(p);
-    out.push(p - s * plane.normal, p, s, id);
+    push_along(poly.plane(f), n, p, id, out);
   }
   return true;
 }
 
 // Cap disc (centre c, outward unit normal cn, radius r, local axes ux, uy in
-// A's frame) against face f of `poly`; see manifold.hpp.
-void cap_on_face(const SatPolytope& poly, Index f, const Vec& c, const Vec& cn, double r, const Vec& ux, const Vec& uy,
-                 double tol, CandidateList& out) {
+// A's frame) against face f of `poly` along the normal n; see manifold.hpp.
+// A point's separation along n is affine over the cap's plane, so its
+// extremes over the region (disc x face projected along n) are among the
+// candidates: the rim point deepest toward the face's plane, the projected
+// face vertices inside the disc, and the edges' crossings of the rim.
+void cap_on_face(const SatPolytope& poly, Index f, const Vec& n, const Vec& c, const Vec& cn, double r, const Vec& ux,
+                 const Vec& uy, double tol, CandidateList& out) {
   const hull::HalfEdgeMesh& m = *poly.mesh;
   const hull::Plane& plane = poly.plane(f);
-  const Vec& n = plane.normal;
+  const Vec& nf = plane.normal;
   auto inside_face = [&](const Vec& x) {
     for (const Index e : m.face_edges(f)) {
-      const Vec p0 = poly.vertex(m.origin(e));
-      const Vec side = (poly.vertex(m.destination(e)) - p0).cross(n);
-      if (side.dot(x - p0) > tol * side.norm()) return false;
+      const Vec side = swept_side(poly, e, n);
+      if (side.dot(x - poly.vertex(m.origin(e))) > tol * side.norm()) return false;
     }
     return true;
   };
@@ -760,14 +778,13 @@ void cap_on_face(const SatPolytope& poly, Index f, const Vec& c, const Vec& cn, 
     id.kind = FeatureKind::cap;
     id.reference = f;
     id.incident = which;
-    const double s = plane.signed_distance(x);
-    out.push(x - s * n, x, s, id);
+    push_along(plane, n, x, id, out);
   };
   const Vec rims[4] = {ux, -ux, uy, -uy};
   for (std::uint32_t k = 0; k < 4; ++k)
     if (inside_face(c + r * rims[k])) add(c + r * rims[k], k);
-  // The deepest rim point: towards -n within the cap plane.
-  const Vec w = -(n - n.dot(cn) * cn);
+  // The deepest rim point: towards -nf within the cap plane.
+  const Vec w = -(nf - nf.dot(cn) * cn);
   const double wn = w.norm();
   if (wn > 1e-12 && inside_face(c + (r / wn) * w)) add(c + (r / wn) * w, 4);
   // Project the polygon onto the cap plane along n: p -> p - ((p - c).cn / n.cn) n.
@@ -815,7 +832,71 @@ ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, c
   return out;
 }
 
-// A polytope A against a capsule, cylinder or cone B.
+// penetration()'s witnesses as one more candidate when every clipped point
+// is shallower than they are by more than `slack` (1e-9 of the size). Its normal is exact only to
+// about the square root of its distance's error (7e-6 rad seen: a side line
+// over a face's edge, 0.05 apart), so B's line extreme along that normal can
+// start beyond the swept side plane by that times the gap while the closest
+// point lies on the plane: the clipping then cuts the line where its gap is
+// larger, by the line's tilt times the part cut.
+void add_witnesses_if_missed(const ContactResult& first, const WorldFrame& world, double slack, CandidateList& c) {
+  for (std::size_t i = 0; i < c.size; ++i)
+    if (c[i].separation <= first.distance + slack) return;
+  FeatureId id;
+  id.kind = FeatureKind::single;
+  c.push(world.local(first.point_a), world.local(first.point_b), first.distance, id);
+}
+
+// The candidates of B's cap or straight side line lying on face f of A along
+// the normal n (A's frame, A -> B, within the angle tolerance of the face's
+// normal nf), see manifold.hpp; ContactPath::none when neither lies along
+// the face (or the clipping failed).
+template <class SB>
+ContactPath curved_candidates(const SatPolytope& pa, Index f, const Vec& n, const SB& b, const RelativePose& rel,
+                              const ContactSettings& settings, double tol, CandidateList& candidates) {
+  const Vec& nf = pa.plane(f).normal;
+  const Vec axis = rel.rotation.col(2);  // B's z in A's frame
+  const Vec centre = rel.translation;
+  const double h = b.half_length;
+  if constexpr (std::is_same_v<SB, Capsule>) {
+    if (!segment_on_face(pa, f, n, centre - h * axis, centre + h * axis, tol, candidates)) return ContactPath::none;
+    return ContactPath::segment;
+  } else {
+    // Cylinder: caps at +-h; cone: the base at -h only.
+    const double cos_tol = std::cos(settings.face_angle_tolerance);
+    const double an = axis.dot(nf);
+    const bool cylinder = std::is_same_v<SB, Cylinder>;
+    const bool cap_down = an >= cos_tol;             // the cap at -h faces A
+    const bool cap_up = cylinder && -an >= cos_tol;  // the cap at +h faces A
+    if (cap_down || cap_up) {
+      const Vec cn = cap_up ? axis : Vec(-axis);
+      cap_on_face(pa, f, n, centre + h * cn, cn, b.radius, rel.rotation.col(0), rel.rotation.col(1), tol, candidates);
+      return ContactPath::cap;
+    }
+    // The side's straight line extreme along -n (radial -n): from the base
+    // rim (a cylinder's and a cone's alike) to the top rim (cylinder) or the
+    // apex (cone).
+    Vec u = -(n - n.dot(axis) * axis);
+    const double un = u.norm();
+    if (!(un > 0.0)) return ContactPath::none;
+    u /= un;
+    const Vec s0 = centre - h * axis + b.radius * u;
+    const Vec s1 = cylinder ? Vec(centre + h * axis + b.radius * u) : Vec(centre + h * axis);
+    const Vec g = s1 - s0;
+    if (!(std::abs(g.dot(nf)) <= std::sin(settings.face_angle_tolerance) * g.norm())) return ContactPath::none;
+    if (!segment_on_face(pa, f, n, s0, s1, tol, candidates)) return ContactPath::none;
+    return ContactPath::segment;
+  }
+}
+
+// A polytope A against a capsule, cylinder or cone B. The manifold is built
+// around penetration()'s exact normal n: the face of A within the angle
+// tolerance of n is the reference, and B's cap or side line is clipped by
+// that face's side planes swept along n (not along the face's normal: where
+// the closest or deepest features are the face's edge and a part of B
+// hanging over it, n is tilted and that part lies beyond the face's side
+// plane but inside the swept one), so each point's separation is its gap
+// along n and the deepest point is penetration()'s.
 template <class SA, class SB>
 ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
                              const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
@@ -828,74 +909,43 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
   const double ra = core_radius(a), rb = core_radius(b);
   const WorldFrame world{pose_a, core_offset(a)};
   const Vec n = pose_a.rotation.transpose() * first.normal;  // A's frame, A -> B
-  const double cos_tol = std::cos(settings.face_angle_tolerance);
-  const double sin_tol = std::sin(settings.face_angle_tolerance);
-  const Index f = face_along(pa, n, cos_tol);
+  const Index f = face_along(pa, n, std::cos(settings.face_angle_tolerance));
   if (f == hull::kInvalidIndex) return first;
-  const Vec& nf = pa.plane(f).normal;
   const double scale = std::max(pa.scale, bounding_radius(b));
   const double tol = geometric_tolerance(scale);
-  const Vec axis = rel.rotation.col(2);  // B's z in A's frame
   CandidateList candidates;
   ContactResult out;
   out.stats = first.stats;
-  if constexpr (std::is_same_v<SB, Capsule>) {
-    const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
-    if (!segment_on_face(pa, f, s0, s1, tol, candidates)) return first;
-    out.path = ContactPath::segment;
-  } else {
-    // Cylinder: caps at +-h; cone: the base at -h only.
-    const Vec centre = rel.translation;
-    const double h = b.half_length;
-    const double an = axis.dot(nf);
-    const bool cylinder = std::is_same_v<SB, Cylinder>;
-    const bool cap_down = an >= cos_tol;             // the cap at -h faces A
-    const bool cap_up = cylinder && -an >= cos_tol;  // the cap at +h faces A
-    // The side's straight line nearest the face, toward A (radial -n).
-    Vec u = -(nf - an * axis);
-    const double un = u.norm();
-    if (cap_down || cap_up) {
-      const Vec cn = cap_up ? axis : Vec(-axis);
-      cap_on_face(pa, f, centre + h * cn, cn, b.radius, rel.rotation.col(0), rel.rotation.col(1), tol, candidates);
-      out.path = ContactPath::cap;
-    } else if (un > 0.0) {
-      u /= un;
-      // From the base rim (a cylinder's and a cone's alike) to the top rim
-      // (cylinder) or the apex (cone).
-      const Vec s0 = centre - h * axis + b.radius * u;
-      const Vec s1 = cylinder ? Vec(centre + h * axis + b.radius * u) : Vec(centre + h * axis);
-      const Vec g = s1 - s0;
-      if (!(std::abs(g.dot(nf)) <= sin_tol * g.norm())) return first;  // not lying along the face
-      if (!segment_on_face(pa, f, s0, s1, tol, candidates)) return first;
-      out.path = ContactPath::segment;
-    } else {
-      return first;
-    }
-  }
+  out.path = curved_candidates(pa, f, n, b, rel, settings, tol, candidates);
+  if (out.path == ContactPath::none) return first;
   out.stats.clipped_points = static_cast<int>(candidates.size);
-  if constexpr (std::is_same_v<SB, Capsule>) {
-    // A capsule is round about its segment: each point's exit along -nf
-    // from the segment (r / sin of the tilt on the side, less near an end),
-    // not the radius, unless the segment lies along the face.
-    // A line through the segment (a capsule standing on the face) leaves it
-    // at the lower end's surface for both ends: one point, not two.
-    const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < candidates.size; ++i) {
-      Candidate x = candidates[i];
-      const double t = std::max(segment_exit(x.on_b, -nf, s0, s1, rb), segment_exit(x.on_b, -nf, s1, s0, rb));
-      x.on_a += ra * nf;
-      x.on_b -= t * nf;
-      x.separation -= ra + t;
-      bool repeated = false;
-      for (std::size_t k = 0; k < kept; ++k) repeated = repeated || (candidates[k].on_b - x.on_b).norm() <= tol;
-      if (!repeated) candidates[kept++] = x;
-    }
-    candidates.size = kept;
-    emit(candidates, nf, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), world, out);
-  } else {
-    emit(candidates, nf, ra, rb, keep_below(settings, scale + std::max(ra, rb)), world, out);
+  // Rounded surfaces: A's side where the line along n leaves A's core grown
+  // by ra (ra / cos of the tilt off the face, less near its edges). A
+  // capsule is round about its segment: each point's exit along -n from the
+  // segment (r / sin of the tilt on the side, less near an end), not the
+  // radius; a line through the segment (a capsule standing on the face)
+  // leaves it at the lower end's surface for both ends: one point, not two.
+  // Cylinders and cones: rb along -n.
+  const Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
+  const Vec axis = rel.rotation.col(2);
+  const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < candidates.size; ++i) {
+    Candidate x = candidates[i];
+    const double ta = ra > 0.0 ? exit_distance(pa, identity, f, x.on_a, n, ra) : 0.0;
+    double tb = rb;
+    if constexpr (std::is_same_v<SB, Capsule>)
+      tb = std::max(segment_exit(x.on_b, -n, s0, s1, rb), segment_exit(x.on_b, -n, s1, s0, rb));
+    x.on_a += ta * n;
+    x.on_b -= tb * n;
+    x.separation -= ta + tb;
+    bool repeated = false;
+    for (std::size_t k = 0; k < kept; ++k) repeated = repeated || (candidates[k].on_b - x.on_b).norm() <= tol;
+    if (!repeated) candidates[kept++] = x;
   }
+  candidates.size = kept;
+  add_witnesses_if_missed(first, world, settings.penetration.touching_band * scale, candidates);
+  emit(candidates, n, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), world, out);
   if (out.count == 0) return first;
   return out;
 }
