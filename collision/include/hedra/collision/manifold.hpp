@@ -25,13 +25,16 @@
 //     The reported depth is therefore at most that bias above the exact
 //     penetration depth.
 //   * a capsule against a polytope: the penetration normal (penetration());
-//     when it is a face normal of the polytope (within face_angle_tolerance)
-//     the capsule's segment is clipped by that face's side planes: one or two
-//     points (a capsule lying on a face gets two); otherwise one point.
+//     when it is within face_angle_tolerance of a face normal of the
+//     polytope the capsule's segment is clipped by that face's side planes
+//     swept along the normal: one or two points (a capsule lying on a face
+//     gets two); otherwise one point. Curved paths keep penetration()'s
+//     normal (the points' depths are gaps along it) and add its witnesses
+//     when every clipped point is shallower than they are.
 //   * a cylinder or cone against a polytope: the penetration normal; when it
-//     is a face normal and a flat cap of the shape lies against that face
+//     is near a face normal and a flat cap of the shape lies against that face
 //     (cap axis within face_angle_tolerance of the normal) the exact region
-//     cap disc x face polygon is sampled without approximating the disc by a
+//     cap disc x face polygon (projected along the normal) is sampled without approximating the disc by a
 //     polygon: candidates are the disc's rim points on the shape's local +-x,
 //     +-y and the deepest rim point (when inside the polygon), the polygon's
 //     vertices inside the disc, and the exact crossings of the polygon's
