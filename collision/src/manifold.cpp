@@ -499,8 +499,10 @@ ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, c
 
 Index face_along(const SatPolytope& poly, const Vec& n, double cos_tol);
 
-// Rounded polytopes whose cores are apart (the margins overlap or lie
-// within the contact distance): SAT's axes only bound the cores' distance,
+// Polytopes whose cores are apart (within the contact distance, or rounded
+// ones whose margins overlap): SAT's axes only bound the cores' distance
+// (a face axis's separation is below it where the closest features are an
+// edge or a vertex on each side, and the clipped points then lie farther),
 // so the manifold is built around the exact normal of the cores' closest
 // features (penetration(), GJK on the cores). When that normal is a face
 // normal of A or of B (closest features face-vertex, face-edge or
@@ -617,7 +619,7 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   const Placement placed_b{rel.rotation, rel.translation};
   const double tol = geometric_tolerance(scale);
   const bool rounded = ra + rb > 0.0;
-  if (rounded && best->separation > settings.penetration.touching_band * scale)
+  if (best->separation > settings.penetration.touching_band * scale)
     return rounded_cores_apart(shape_a, pose_a, shape_b, pose_b, pa, pb, rel, ra, rb, keep, world, cache, settings,
                                out.stats);
   Vec normal = best->normal;

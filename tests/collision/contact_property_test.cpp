@@ -15,6 +15,9 @@
 //     its error bound and 1e-9 of the size);
 //   * contact()'s distance equals penetration()'s, or, where the face
 //     preference chose another axis, lies within the stated bias below it.
+// A second pass moves every pair apart to a gap within the contact distance
+// (5 % of the size): the same checks on speculative points (negative depth,
+// the gap along the normal).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -204,12 +207,11 @@ struct Worst {
   int cap = 0, segment = 0;  // cones' caps and side lines on a face
 };
 
-void check_pair(const Pair& p, const std::string& kind, Worst& worst) {
+void check_pair(const Pair& p, const std::string& kind, Worst& worst, const ContactSettings& settings = {}) {
   const double size = bounding_radius(p.a) + bounding_radius(p.b);
   const double tol = 1e-9 * size;
   const PenetrationResult pen = penetration(p.a, p.pa, p.b, p.pb);
   ASSERT_EQ(pen.status, Status::ok) << p.family << " " << kind;
-  const ContactSettings settings;
   const ContactResult c = contact(p.a, p.pa, p.b, p.pb, nullptr, settings);
   ++worst.pairs;
   if (std::holds_alternative<Cone>(p.b)) {
@@ -269,6 +271,33 @@ TEST(ContactProperty, PenetratingAndTouchingPairsGetExactPoints) {
   std::printf("cone pairs on the cap path %d, on the side-line path %d\n", worst.cap, worst.segment);
   EXPECT_GT(worst.cap, 100);
   EXPECT_GT(worst.segment, 100);
+}
+
+// Within the contact distance: each pair moved apart along penetration()'s
+// normal to a gap of 0 to contact_distance (5 % of the size), so that every
+// point is speculative (negative depth: the gap along the normal there) and
+// the same checks hold.
+TEST(ContactProperty, PairsWithinTheContactDistanceGetExactSpeculativePoints) {
+  Worst worst;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> fraction(0.0, 1.0);
+  for (const Pair& p : make_pairs(150)) {
+    const PenetrationResult pen = penetration(p.a, p.pa, p.b, p.pb);
+    if (pen.status != Status::ok || !(pen.distance < 0.0)) continue;
+    const double size = bounding_radius(p.a) + bounding_radius(p.b);
+    ContactSettings settings;
+    settings.contact_distance = 0.05 * size;
+    Pair t = p;
+    t.pb.translation += (-pen.distance + fraction(rng) * settings.contact_distance) * pen.normal;
+    const PenetrationResult apart = penetration(t.a, t.pa, t.b, t.pb);
+    if (apart.status != Status::ok || !(apart.distance < settings.contact_distance)) continue;
+    check_pair(t, "within the contact distance", worst, settings);
+  }
+  std::printf(
+      "pairs %d, without points %d, another axis by the bias %d; worst / size: off surface %.3g, below exact %.3g, "
+      "distance gap %.3g\n",
+      worst.pairs, worst.failures, worst.biased, worst.surface, worst.below_exact, worst.distance_gap);
+  EXPECT_GT(worst.pairs, 1500);
 }
 
 }  // namespace

@@ -47,10 +47,11 @@
 // Margins (rounded shapes): every point's depth is the gap of the rounded
 // surfaces on its line along the normal (the reference side its radius out
 // of the face; the incident side where the line leaves the incident core
-// grown by its radius: r / cos(tilt) off a tilted face). Cores apart: SAT
-// only bounds their distance, so the manifold follows GJK's normal of the
-// cores (a face contact when it is a face normal of A or B within 1e-6 rad,
-// else penetration()'s point). A face contact whose kept points are
+// grown by its radius: r / cos(tilt) off a tilted face). Cores apart
+// (rounded or sharp, within the contact distance): SAT only bounds their
+// distance, so the manifold follows GJK's normal of the cores (a face
+// contact when it is a face normal of A or B within 1e-6 rad, else
+// penetration()'s point). A face contact whose kept points are
 // shallower than its axis by more than the bias (the deepest incident
 // vertex clipped away) is penetration()'s point too.
 //
@@ -166,8 +167,8 @@ struct ContactResult {
   Status status = Status::ok;
   bool intersecting = false;  // distance <= 0
   // Signed distance along `normal`: < 0 the penetration depth of the chosen
-  // axis. For a separated polytope pair it is the SAT separation, a lower
-  // bound on the distance (exact for face contacts).
+  // axis. For a polytope pair separated beyond the contact distance it is
+  // the SAT separation, a lower bound on the distance.
   double distance = 0.0;
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, from A toward B, world
   // The deepest point's witnesses on A and B (world).
