@@ -834,6 +834,59 @@ ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, c
   return out;
 }
 
+// Distance from a point (B's local frame) to a cylinder's or cone's core,
+// from the meridian half-section (radial >= 0, axial): the nearest of its
+// edges; `away` is the unit direction from the closest point (local frame).
+// For points outside the core (0 and an arbitrary `away` inside).
+template <class SB>
+double core_distance(const SB& b, const Vec& p, Vec& away) {
+  const double h = b.half_length, r = b.radius;
+  const double radial = std::hypot(p.x(), p.y());
+  const Eigen::Vector2d q(radial, p.z());
+  const bool cylinder = std::is_same_v<SB, Cylinder>;
+  // Base centre, rim, top rim (cylinder) or apex (cone), top centre.
+  const Eigen::Vector2d corners[4] = {{0.0, -h}, {r, -h}, {cylinder ? r : 0.0, h}, {0.0, h}};
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d closest = q;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector2d e = corners[k + 1] - corners[k];
+    const double len2 = e.squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((q - corners[k]).dot(e) / len2, 0.0, 1.0) : 0.0;
+    const Eigen::Vector2d c = corners[k] + t * e;
+    const double d = (q - c).norm();
+    if (d < best) {
+      best = d;
+      closest = c;
+    }
+  }
+  const Eigen::Vector2d w = best > 0.0 ? Eigen::Vector2d((q - closest) / best) : Eigen::Vector2d(0.0, 1.0);
+  const Vec radial_unit = radial > 0.0 ? Vec(p.x() / radial, p.y() / radial, 0.0) : Vec::UnitX();
+  away = w.x() * radial_unit + Vec(0.0, 0.0, w.y());
+  return best;
+}
+
+// How far the ray x + s d (A's frame; x on B's core, d unit and leaving the
+// core there) runs inside B's core grown by r: the root of
+// distance(x + s d) = r, between r (the distance grows at most as fast as
+// s) and 2 r (at least as fast as s |d . normal| > 1/2 near a face's normal).
+// The distance along a line is convex, so Newton's steps from 2 r decrease
+// monotonically onto the root: 3 to 4 steps to rounding (at most 16).
+template <class SB>
+double rounded_exit(const SB& b, const RelativePose& rel, const Vec& x, const Vec& d, double r) {
+  const Vec p = rel.rotation.transpose() * (x - rel.translation), dl = rel.rotation.transpose() * d;
+  double s = 2.0 * r;
+  for (int i = 0; i < 16; ++i) {
+    Vec away;
+    const double g = core_distance(b, p + s * dl, away) - r;
+    const double slope = away.dot(dl);
+    if (!(slope > 0.0)) break;
+    const double step = g / slope;
+    s -= step;
+    if (!(std::abs(step) > 4.0 * std::numeric_limits<double>::epsilon() * s)) break;
+  }
+  return std::clamp(s, r, 2.0 * r);
+}
+
 // penetration()'s witnesses as one more candidate when every clipped point
 // is shallower than they are by more than `slack` (1e-9 of the size). Its normal is exact only to
 // about the square root of its distance's error (7e-6 rad seen: a side line
@@ -927,7 +980,8 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
   // segment (r / sin of the tilt on the side, less near an end), not the
   // radius; a line through the segment (a capsule standing on the face)
   // leaves it at the lower end's surface for both ends: one point, not two.
-  // Cylinders and cones: rb along -n.
+  // Cylinders and cones: where the line along -n leaves the core grown by rb
+  // (rb / cos of its angle to the core's normal there, less near a rim).
   const Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
   const Vec axis = rel.rotation.col(2);
   const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
@@ -935,9 +989,11 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
   for (std::size_t i = 0; i < candidates.size; ++i) {
     Candidate x = candidates[i];
     const double ta = ra > 0.0 ? exit_distance(pa, identity, f, x.on_a, n, ra) : 0.0;
-    double tb = rb;
+    double tb = 0.0;
     if constexpr (std::is_same_v<SB, Capsule>)
       tb = std::max(segment_exit(x.on_b, -n, s0, s1, rb), segment_exit(x.on_b, -n, s1, s0, rb));
+    else if (rb > 0.0)
+      tb = rounded_exit(b, rel, x.on_b, -n, rb);
     x.on_a += ta * n;
     x.on_b -= tb * n;
     x.separation -= ta + tb;

@@ -1,9 +1,10 @@
-// Property test of contact() over nineteen seeded pair families (random
+// Property test of contact() over twenty-one seeded pair families (random
 // hulls of 8 to 64 vertices, boxes, rounded boxes and hulls with margins of
 // 2 % to 10 % of the size, spheres, capsules, cylinders and cones, sharp and
 // rounded, against polytopes, 150 random poses each; and cones standing or
 // lying on a box's face, tilted by up to 5e-4 rad, 75 each, so that their
-// cap and side-line paths run), each pair penetrating
+// cap and side-line paths run; rounded cylinders the same way, often hanging
+// over the face's edge), each pair penetrating
 // or brought to touching (B moved along penetration()'s normal by its
 // distance). For every pair:
 //   * status ok and at least one point;
@@ -198,6 +199,24 @@ std::vector<Pair> make_pairs(int per_family) {
     pairs.push_back(
         {box, c, Pose::identity(), Pose::from_quaternion(q, t), lying ? "cone_lying_on_box" : "cone_on_box"});
   }
+  // Rounded cylinders (margins 0.02 to 0.1) standing or lying on a box's top
+  // face the same way, placed anywhere over it up to 1.5 times its half
+  // extents (often hanging over an edge), 1e-3 to 5e-2 deep.
+  std::uniform_real_distribution<double> anywhere(-1.5, 1.5);
+  for (int i = 0; i < per_family; ++i) {
+    const Shape box = random_box(rng, 0.0);
+    const Vec half = std::get<Box>(box).half_extents;
+    const Cylinder c = std::get<Cylinder>(rounded_cylinder(rng, margin(rng)));
+    const bool lying = i % 2 == 1;
+    const Eigen::Quaterniond down =
+        lying ? Eigen::Quaterniond::FromTwoVectors(Vec::UnitX(), -Vec::UnitZ()) : Eigen::Quaterniond::Identity();
+    const Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(tilt(rng), random_unit(rng))) * down;
+    // The lowest point of the side line at x = r, or the base centre.
+    const Vec lowest = q * (lying ? Vec(c.radius, 0.0, 0.0) : Vec(0.0, 0.0, -c.half_length)) - Vec(0, 0, c.margin);
+    const Vec t(anywhere(rng) * half.x(), anywhere(rng) * half.y(), half.z() - depth(rng) - lowest.z());
+    pairs.push_back({box, c, Pose::identity(), Pose::from_quaternion(q, t),
+                     lying ? "rounded_cylinder_lying_on_box" : "rounded_cylinder_on_box"});
+  }
   return pairs;
 }
 
@@ -205,6 +224,7 @@ struct Worst {
   double surface = 0.0, below_exact = 0.0, distance_gap = 0.0;
   int pairs = 0, touching = 0, failures = 0, biased = 0;
   int cap = 0, segment = 0;  // cones' caps and side lines on a face
+  int cylinder_cap = 0, cylinder_segment = 0;
 };
 
 void check_pair(const Pair& p, const std::string& kind, Worst& worst, const ContactSettings& settings = {}) {
@@ -214,6 +234,10 @@ void check_pair(const Pair& p, const std::string& kind, Worst& worst, const Cont
   ASSERT_EQ(pen.status, Status::ok) << p.family << " " << kind;
   const ContactResult c = contact(p.a, p.pa, p.b, p.pb, nullptr, settings);
   ++worst.pairs;
+  if (std::holds_alternative<Cylinder>(p.b)) {
+    worst.cylinder_cap += c.path == ContactPath::cap;
+    worst.cylinder_segment += c.path == ContactPath::segment;
+  }
   if (std::holds_alternative<Cone>(p.b)) {
     worst.cap += c.path == ContactPath::cap;
     worst.segment += c.path == ContactPath::segment;
@@ -271,6 +295,10 @@ TEST(ContactProperty, PenetratingAndTouchingPairsGetExactPoints) {
   std::printf("cone pairs on the cap path %d, on the side-line path %d\n", worst.cap, worst.segment);
   EXPECT_GT(worst.cap, 100);
   EXPECT_GT(worst.segment, 100);
+  std::printf("cylinder pairs on the cap path %d, on the side-line path %d\n", worst.cylinder_cap,
+              worst.cylinder_segment);
+  EXPECT_GT(worst.cylinder_cap, 100);
+  EXPECT_GT(worst.cylinder_segment, 100);
 }
 
 // Within the contact distance: each pair moved apart along penetration()'s

@@ -601,6 +601,32 @@ TEST(Manifold, CurvedContactsClipAlongTheExactNormalSoAPartOverhangingTheFaceEdg
     }
 }
 
+// A rounded cylinder's margin was added along the normal as a length, which
+// is where the line along the normal leaves the rounded surface only when
+// the normal is the core's normal there: off a cap or side line tilted by
+// theta it leaves at margin / cos(theta) (3.2e-8 later here), and near a rim
+// earlier. The exit is now solved on the rounded surface itself.
+TEST(Manifold, ARoundedCylindersMarginIsItsExitAlongTheNormalNotItsLength) {
+  const Vec half(1.0, 1.0, 0.5);
+  const Shape box = Box{half};
+  const Cylinder cyl{0.4, 0.6, 0.1};
+  const double size = bounding_radius(box) + bounding_radius(Shape(cyl));
+  const Eigen::Quaterniond tilt(Eigen::AngleAxisd(8e-4, Vec(1.0, 2.0, 0.0).normalized()));
+  const Eigen::Quaterniond lying = tilt * Eigen::Quaterniond::FromTwoVectors(Vec::UnitX(), -Vec::UnitZ());
+  const Pose poses[] = {Pose::from_quaternion(tilt, Vec(0.2, 0.1, 0.5 + 0.6 + 0.1 - 0.01)),
+                        Pose::from_quaternion(lying, Vec(0.2, 0.1, 0.5 + 0.4 + 0.1 - 0.01))};
+  const ContactPath paths[] = {ContactPath::cap, ContactPath::segment};
+  for (int i = 0; i < 2; ++i) {
+    const ContactResult r = contact(box, Pose::identity(), cyl, poses[i]);
+    EXPECT_EQ(r.path, paths[i]);
+    ASSERT_GE(r.count, 2);
+    for (int k = 0; k < r.count; ++k) {
+      EXPECT_NEAR(box_distance(half, Pose::identity(), on_a(r.points[k], r)), 0.0, 1e-9 * size) << i << " " << k;
+      EXPECT_NEAR(cylinder_distance(cyl, poses[i], on_b(r.points[k], r)), cyl.margin, 1e-9 * size) << i << " " << k;
+    }
+  }
+}
+
 TEST(Manifold, FacesBeyondTheFixedBuffersFallBackToOnePoint) {
   // A 300-gon prism: its caps exceed the clip buffers (256 points), so a box
   // on a cap gets one point from penetration(), still at the right depth.
