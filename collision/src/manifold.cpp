@@ -888,12 +888,13 @@ double rounded_exit(const SB& b, const RelativePose& rel, const Vec& x, const Ve
 }
 
 // penetration()'s witnesses as one more candidate when every clipped point
-// is shallower than they are by more than `slack` (1e-9 of the size). Its normal is exact only to
-// about the square root of its distance's error (7e-6 rad seen: a side line
-// over a face's edge, 0.05 apart), so B's line extreme along that normal can
-// start beyond the swept side plane by that times the gap while the closest
-// point lies on the plane: the clipping then cuts the line where its gap is
-// larger, by the line's tilt times the part cut.
+// is shallower than they are by more than `slack` (1e-9 of the size). Its
+// normal is exact only to about the square root of its distance's error
+// (7e-6 rad seen: a side line over a face's edge, 0.05 apart), so B's line
+// extreme along that normal can start beyond the swept side plane by that
+// times the gap while the closest point lies on the plane: the clipping then
+// cuts the line where its gap is larger, by the line's tilt times the part
+// cut.
 void add_witnesses_if_missed(const ContactResult& first, const WorldFrame& world, double slack, CandidateList& c) {
   for (std::size_t i = 0; i < c.size; ++i)
     if (c[i].separation <= first.distance + slack) return;
@@ -945,13 +946,14 @@ ContactPath curved_candidates(const SatPolytope& pa, Index f, const Vec& n, cons
 }
 
 // A polytope A against a capsule, cylinder or cone B. The manifold is built
-// around penetration()'s exact normal n: the face of A within the angle
+// around penetration()'s normal n: the face of A within the angle
 // tolerance of n is the reference, and B's cap or side line is clipped by
 // that face's side planes swept along n (not along the face's normal: where
 // the closest or deepest features are the face's edge and a part of B
 // hanging over it, n is tilted and that part lies beyond the face's side
 // plane but inside the swept one), so each point's separation is its gap
-// along n and the deepest point is penetration()'s.
+// along n and the deepest point is penetration()'s (its witnesses added
+// where n's own error still cuts them away).
 template <class SA, class SB>
 ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
                              const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
