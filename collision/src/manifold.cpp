@@ -499,10 +499,9 @@ ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, c
 
 Index face_along(const SatPolytope& poly, const Vec& n, double cos_tol);
 
-// Polytopes whose cores are apart (within the contact distance, or rounded
-// ones whose margins overlap): SAT's axes only bound the cores' distance
-// (a face axis's separation is below it where the closest features are an
-// edge or a vertex on each side, and the clipped points then lie farther),
+// Polytopes whose cores are apart (rounded ones whose margins overlap or lie
+// within the contact distance; sharp ones within it whose SAT contact is not
+// exact, see polytope_contact): SAT's axes only bound the cores' distance,
 // so the manifold is built around the exact normal of the cores' closest
 // features (penetration(), GJK on the cores). When that normal is a face
 // normal of A or of B (closest features face-vertex, face-edge or
@@ -619,7 +618,9 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   const Placement placed_b{rel.rotation, rel.translation};
   const double tol = geometric_tolerance(scale);
   const bool rounded = ra + rb > 0.0;
-  if (best->separation > settings.penetration.touching_band * scale)
+  const double band = settings.penetration.touching_band * scale;
+  const bool apart = best->separation > band;  // SAT's separation: a lower bound on the cores' distance
+  if (rounded && apart)
     return rounded_cores_apart(shape_a, pose_a, shape_b, pose_b, pa, pb, rel, ra, rb, keep, world, cache, settings,
                                out.stats);
   Vec normal = best->normal;
@@ -649,13 +650,23 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
     id.kind = FeatureKind::edge;
     id.reference = ea;
     id.incident = eb;
-    candidates.push(on_a, on_b, best->separation, id);
+    // Apart, a closest point at an end of its edge lies farther than the
+    // axis's separation: the points' own distance, for the check below.
+    candidates.push(on_a, on_b, apart ? std::max(best->separation, (on_b - on_a).norm()) : best->separation, id);
     built = true;
   }
   const bool shifted = rounded && best->kind != SatAxisKind::edge;  // round_candidates moved them already
   double deepest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < candidates.size; ++i) deepest = std::min(deepest, candidates[i].separation);
   const double axis_separation = best->separation - (shifted ? ra + rb : 0.0);
+  // Sharp cores apart: SAT's separation bounds their distance from below and
+  // the nearest candidate's gap from above. Where these differ the closest
+  // features are neither a face's interior nor crossing edges (an edge or a
+  // vertex on each side), and the manifold follows GJK's normal as for
+  // rounded cores.
+  if (apart && built && candidates.size > 0 && deepest > axis_separation + band)
+    return rounded_cores_apart(shape_a, pose_a, shape_b, pose_b, pa, pb, rel, ra, rb, keep, world, cache, settings,
+                               out.stats);
   // The incident shape's deepest vertex clipped away by the reference face's
   // side planes (deep contacts near an edge): the kept points would be
   // shallower than the axis by more than the bias allows.
