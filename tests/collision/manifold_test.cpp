@@ -536,13 +536,6 @@ TEST(Manifold, CylinderStandingOnItsCapGivesRimPoints) {
   EXPECT_EQ(cone.count, 4);
 }
 
-// Signed distance of a world point to a posed cylinder (exact inside and out).
-double cylinder_distance(const Cylinder& c, const Pose& pose, const Vec& x) {
-  const Vec local = pose.rotation.transpose() * (x - pose.translation);
-  const double radial = std::hypot(local.x(), local.y()) - c.radius, axial = std::abs(local.z()) - c.half_length;
-  return std::hypot(std::max(radial, 0.0), std::max(axial, 0.0)) + std::min(std::max(radial, axial), 0.0);
-}
-
 // A side line or a cap whose normal is within face_angle_tolerance of a
 // face's normal, hanging over that face's edge with its lowest part beyond
 // it: the exact normal is tilted (the closest or deepest features are the
@@ -594,7 +587,7 @@ TEST(Manifold, CurvedContactsClipAlongTheExactNormalSoAPartOverhangingTheFaceEdg
         // On the box's top face, or within the clipping tolerance beyond its edge.
         EXPECT_NEAR(on_a(r.points[k], r).z(), half.z(), tol) << "point " << k;
         EXPECT_LE(std::abs(box_distance(half, Pose::identity(), on_a(r.points[k], r))), 1e-6 * size) << "point " << k;
-        EXPECT_LE(std::abs(cylinder_distance(cyl, pc, on_b(r.points[k], r))), tol) << "point " << k;
+        EXPECT_LE(std::abs(testing::surface_distance(cyl, pc, on_b(r.points[k], r))), tol) << "point " << k;
       }
       EXPECT_NEAR(deepest, -pen.distance, tol);
       EXPECT_NEAR(r.distance, pen.distance, tol);
@@ -622,7 +615,7 @@ TEST(Manifold, ARoundedCylindersMarginIsItsExitAlongTheNormalNotItsLength) {
     ASSERT_GE(r.count, 2);
     for (int k = 0; k < r.count; ++k) {
       EXPECT_NEAR(box_distance(half, Pose::identity(), on_a(r.points[k], r)), 0.0, 1e-9 * size) << i << " " << k;
-      EXPECT_NEAR(cylinder_distance(cyl, poses[i], on_b(r.points[k], r)), cyl.margin, 1e-9 * size) << i << " " << k;
+      EXPECT_NEAR(testing::surface_distance(cyl, poses[i], on_b(r.points[k], r)), 0.0, 1e-9 * size) << i << " " << k;
     }
   }
 }

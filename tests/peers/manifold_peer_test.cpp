@@ -37,7 +37,6 @@ using hedra::collision::ContactPath;
 using hedra::collision::ContactPoint;
 using hedra::collision::ContactResult;
 using hedra::collision::ContactSettings;
-using hedra::collision::ConvexPolyhedron;
 using hedra::collision::Polyhedron;
 using hedra::collision::Pose;
 using hedra::collision::Shape;
@@ -46,7 +45,6 @@ using hedra::peers::PeerManifold;
 using hedra::peers::PeerPair;
 using Vec = Eigen::Vector3d;
 namespace t = hedra::collision::testing;
-namespace hull = hedra::hull;
 
 double deepest(const ContactResult& r) {
   double d = -INFINITY;
@@ -73,23 +71,6 @@ TEST(ManifoldPeer, BoxOnBoxAgreesWithBullet) {
   for (const auto& p : m.points) EXPECT_GT(p.normal.dot(r.normal), 1.0 - 1e-9);  // the adapter's convention
   // Every point Bullet reports is at one of hedra's four corners' depth.
   for (const auto& p : m.points) EXPECT_NEAR(p.depth, 0.05, 1e-9);
-}
-
-// Signed distance of a world point to a posed box or hull: exact on and
-// outside the surface (the exact reference outside a hull), the largest
-// plane distance inside.
-double signed_distance(const Shape& s, const Pose& pose, const Vec& x) {
-  const Vec local = pose.rotation.transpose() * (x - pose.translation);
-  if (const Box* b = std::get_if<Box>(&s)) {
-    const Vec q = local.cwiseAbs() - b->half_extents;
-    return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
-  }
-  const ConvexPolyhedron& h = *std::get<Polyhedron>(s).hull;
-  const Vec v = local - h.offset();
-  double plane = -INFINITY;
-  for (hull::Index f = 0; f < h.mesh().face_count(); ++f) plane = std::max(plane, h.mesh().plane(f).signed_distance(v));
-  if (plane <= 0.0) return plane;
-  return t::reference_distance(t::world_vertices(h, pose), {x});
 }
 
 Shape random_box(std::mt19937_64& rng) {
@@ -165,8 +146,8 @@ void check(const PeerPair& p, const std::string& kind, Tally& tally) {
   for (int k = 0; k < r.count; ++k) {
     const ContactPoint& q = r.points[k];
     dh = std::max(dh, q.depth);
-    const double off = std::max(std::abs(signed_distance(p.a, p.pose_a, q.point + 0.5 * q.depth * r.normal)),
-                                std::abs(signed_distance(p.b, p.pose_b, q.point - 0.5 * q.depth * r.normal)));
+    const double off = std::max(std::abs(t::surface_distance(p.a, p.pose_a, q.point + 0.5 * q.depth * r.normal)),
+                                std::abs(t::surface_distance(p.b, p.pose_b, q.point - 0.5 * q.depth * r.normal)));
     ++tally.hedra_points;
     tally.hedra_off_surface += off > tol;
     tally.worst_hedra_surface = std::max(tally.worst_hedra_surface, off / size);
@@ -195,8 +176,8 @@ void check(const PeerPair& p, const std::string& kind, Tally& tally) {
   for (const PeerContactPoint& q : m.points) {
     if (q.depth > deepest->depth) deepest = &q;
     // Bullet's point is on B, its point on A depth along the normal from it.
-    const double off = std::max(std::abs(signed_distance(p.b, p.pose_b, q.point)),
-                                std::abs(signed_distance(p.a, p.pose_a, q.point + q.depth * q.normal)));
+    const double off = std::max(std::abs(t::surface_distance(p.b, p.pose_b, q.point)),
+                                std::abs(t::surface_distance(p.a, p.pose_a, q.point + q.depth * q.normal)));
     ++tally.bullet_points;
     tally.bullet_off_surface += off > tol;
     tally.worst_bullet_surface = std::max(tally.worst_bullet_surface, off / size);
