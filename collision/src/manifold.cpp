@@ -252,7 +252,9 @@ double exit_distance(const SatPolytope& poly, const Placement& place, Index f, c
     for (const Index e : m.face_edges(g)) {
       const Vec a = place.point(poly.vertex(m.origin(e)));
       const Vec side = (place.point(poly.vertex(m.destination(e))) - a).cross(n);
-      if (side.dot(foot - a) > 0.0) return;  // the foot leaves face g: an edge or a vertex holds the exit
+      // The foot leaves face g (an edge or a vertex holds the exit), or it
+      // overflowed (d almost along g's plane: no exit through g's slab).
+      if (!(side.dot(foot - a) <= 0.0)) return;
     }
     t = std::max(t, ts);
   };
