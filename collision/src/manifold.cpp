@@ -136,6 +136,7 @@ struct WorldFrame {
   Vec offset;
   Vec point(const Vec& x) const { return pose.rotation * (offset + x) + pose.translation; }
   Vec direction(const Vec& d) const { return pose.rotation * d; }
+  Vec local(const Vec& x) const { return pose.rotation.transpose() * (x - pose.translation) - offset; }
 };
 
 // Shifts the cores' candidates by the radii, keeps those separated by at
@@ -251,7 +252,9 @@ double exit_distance(const SatPolytope& poly, const Placement& place, Index f, c
     for (const Index e : m.face_edges(g)) {
       const Vec a = place.point(poly.vertex(m.origin(e)));
       const Vec side = (place.point(poly.vertex(m.destination(e))) - a).cross(n);
-      if (side.dot(foot - a) > 0.0) return;  // the foot leaves face g: an edge or a vertex holds the exit
+      // The foot leaves face g (an edge or a vertex holds the exit), or it
+      // overflowed (d almost along g's plane: no exit through g's slab).
+      if (!(side.dot(foot - a) <= 0.0)) return;
     }
     t = std::max(t, ts);
   };
@@ -542,8 +545,9 @@ Index edge_across(const SatPolytope& poly, const Vec& n) {
   return best == hull::kInvalidIndex ? best : std::min(best, m.twin(best));
 }
 
-// Rounded polytopes whose cores are apart (the margins overlap or lie
-// within the contact distance): SAT's axes only bound the cores' distance,
+// Polytopes whose cores are apart (rounded ones whose margins overlap or lie
+// within the contact distance; sharp ones within it whose SAT contact is not
+// exact, see build_manifold): SAT's axes only bound the cores' distance,
 // so the manifold is built around the exact normal n of the cores' closest
 // features (penetration()'s, GJK on the cores). When n is a face normal of
 // A or of B (closest features face-vertex, face-edge or face-face), that
@@ -729,6 +733,8 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   const double ra = pp.ra, rb = pp.rb;
   const double tol = geometric_tolerance(pp.scale);
   const bool rounded = ra + rb > 0.0;
+  const double band = settings.penetration.touching_band * pp.scale;
+  const bool apart = best.separation > band;  // SAT's separation: a lower bound on the cores' distance
   Vec normal = best.normal;
   bool built = false;
   if (best.kind == SatAxisKind::face_a) {
@@ -770,13 +776,26 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
     id.kind = FeatureKind::edge;
     id.reference = ea;
     id.incident = eb;
-    candidates.push(on_a, on_b, best.separation, id);
+    // Apart, a closest point at an end of its edge lies farther than the
+    // axis's separation: the points' own distance, for the check below.
+    candidates.push(on_a, on_b, apart ? std::max(best.separation, (on_b - on_a).norm()) : best.separation, id);
     built = true;
   }
   const bool shifted = rounded && best.kind != SatAxisKind::edge;  // round_candidates moved them already
   double deepest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < candidates.size; ++i) deepest = std::min(deepest, candidates[i].separation);
   const double axis_separation = best.separation - (shifted ? ra + rb : 0.0);
+  // Sharp cores apart: SAT's separation bounds their distance from below and
+  // the nearest candidate's gap from above. Where these differ the closest
+  // features are neither a face's interior nor crossing edges (an edge or a
+  // vertex on each side), and the manifold follows the exact normal as for
+  // rounded cores.
+  if (apart && built && candidates.size > 0 && deepest > axis_separation + band) {
+    SatAxis used;
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, fallback(), stats, used);
+    remember(cache, used);
+    return r;
+  }
   // The incident shape's deepest vertex clipped away by the reference face's
   // side planes (deep contacts near an edge): the kept points would be
   // shallower than the axis by more than the bias allows, or shallower than
@@ -1138,18 +1157,35 @@ Index face_along(const SatPolytope& poly, const Vec& n, double cos_tol) {
   return face;
 }
 
-// Segment s0-s1 (A's frame, on B's core) clipped by the side planes of face f.
-bool segment_on_face(const SatPolytope& poly, Index f, const Vec& s0, const Vec& s1, double tol, CandidateList& out) {
+// The side plane of half-edge e of a face of `poly` swept along n (A's frame,
+// within the angle tolerance of the face's normal), outward: a point lies
+// inside every swept side plane when its projection along n onto the face's
+// plane lies inside the face.
+Vec swept_side(const SatPolytope& poly, Index e, const Vec& n) {
   const hull::HalfEdgeMesh& m = *poly.mesh;
-  const hull::Plane& plane = poly.plane(f);
+  return (poly.vertex(m.destination(e)) - poly.vertex(m.origin(e))).cross(n);
+}
+
+// A point x of B's core against the plane of a face of A along the normal n:
+// its foot on the plane along n, and its separation along n.
+void push_along(const hull::Plane& plane, const Vec& n, const Vec& x, const FeatureId& id, CandidateList& out) {
+  const double s = plane.signed_distance(x) / plane.normal.dot(n);
+  out.push(x - s * n, x, s, id);
+}
+
+// Segment s0-s1 (A's frame, on B's core) clipped by the side planes of face f
+// swept along the normal n.
+bool segment_on_face(const SatPolytope& poly, Index f, const Vec& n, const Vec& s0, const Vec& s1, double tol,
+                     CandidateList& out) {
+  const hull::HalfEdgeMesh& m = *poly.mesh;
   std::array<Vec, 4> buf_a{s0, s1}, buf_b;
   Vec* src = buf_a.data();
   Vec* dst = buf_b.data();
   std::size_t count = 2;
   for (const Index e : m.face_edges(f)) {
-    const Vec p0 = poly.vertex(m.origin(e));
-    const Vec side = (poly.vertex(m.destination(e)) - p0).cross(plane.normal);
-    const hull::ClipResult r = hull::clip_polygon(src, count, {side, side.dot(p0)}, dst, buf_b.size(), tol);
+    const Vec side = swept_side(poly, e, n);
+    const hull::ClipResult r =
+        hull::clip_polygon(src, count, {side, side.dot(poly.vertex(m.origin(e)))}, dst, buf_b.size(), tol);
     if (r.status != hull::ClipStatus::ok) return false;
     count = r.count;
     std::swap(src, dst);
@@ -1167,9 +1203,7 @@ bool segment_on_face(const SatPolytope& poly, Index f, const Vec& s0, const Vec&
     } else {
       double best = std::numeric_limits<double>::infinity();
       for (const Index e : m.face_edges(f)) {
-        const Vec p0 = poly.vertex(m.origin(e));
-        const Vec side = (poly.vertex(m.destination(e)) - p0).cross(plane.normal).normalized();
-        const double d = std::abs(side.dot(p - p0));
+        const double d = std::abs(swept_side(poly, e, n).normalized().dot(p - poly.vertex(m.origin(e))));
         if (d < best) {
           best = d;
           id.clip = e;
@@ -1177,24 +1211,26 @@ bool segment_on_face(const SatPolytope& poly, Index f, const Vec& s0, const Vec&
       }
       id.incident = 2;
     }
-    const double s = plane.signed_distance(p);
-    out.push(p - s * plane.normal, p, s, id);
+    push_along(poly.plane(f), n, p, id, out);
   }
   return true;
 }
 
 // Cap disc (centre c, outward unit normal cn, radius r, local axes ux, uy in
-// A's frame) against face f of `poly`; see manifold.hpp.
-void cap_on_face(const SatPolytope& poly, Index f, const Vec& c, const Vec& cn, double r, const Vec& ux, const Vec& uy,
-                 double tol, CandidateList& out) {
+// A's frame) against face f of `poly` along the normal n; see manifold.hpp.
+// A point's separation along n is affine over the cap's plane, so its
+// extremes over the region (disc x face projected along n) are among the
+// candidates: the rim point deepest toward the face's plane, the projected
+// face vertices inside the disc, and the edges' crossings of the rim.
+void cap_on_face(const SatPolytope& poly, Index f, const Vec& n, const Vec& c, const Vec& cn, double r, const Vec& ux,
+                 const Vec& uy, double tol, CandidateList& out) {
   const hull::HalfEdgeMesh& m = *poly.mesh;
   const hull::Plane& plane = poly.plane(f);
-  const Vec& n = plane.normal;
+  const Vec& nf = plane.normal;
   auto inside_face = [&](const Vec& x) {
     for (const Index e : m.face_edges(f)) {
-      const Vec p0 = poly.vertex(m.origin(e));
-      const Vec side = (poly.vertex(m.destination(e)) - p0).cross(n);
-      if (side.dot(x - p0) > tol * side.norm()) return false;
+      const Vec side = swept_side(poly, e, n);
+      if (side.dot(x - poly.vertex(m.origin(e))) > tol * side.norm()) return false;
     }
     return true;
   };
@@ -1203,14 +1239,13 @@ void cap_on_face(const SatPolytope& poly, Index f, const Vec& c, const Vec& cn, 
     id.kind = FeatureKind::cap;
     id.reference = f;
     id.incident = which;
-    const double s = plane.signed_distance(x);
-    out.push(x - s * n, x, s, id);
+    push_along(plane, n, x, id, out);
   };
   const Vec rims[4] = {ux, -ux, uy, -uy};
   for (std::uint32_t k = 0; k < 4; ++k)
     if (inside_face(c + r * rims[k])) add(c + r * rims[k], k);
-  // The deepest rim point: towards -n within the cap plane.
-  const Vec w = -(n - n.dot(cn) * cn);
+  // The deepest rim point: towards -nf within the cap plane.
+  const Vec w = -(nf - nf.dot(cn) * cn);
   const double wn = w.norm();
   if (wn > 1e-12 && inside_face(c + (r / wn) * w)) add(c + (r / wn) * w, 4);
   // Project the polygon onto the cap plane along n: p -> p - ((p - c).cn / n.cn) n.
@@ -1262,7 +1297,126 @@ ContactResult penetration_point(const PenetrationResult& p, double scale, const 
   return out;
 }
 
-// A polytope A against a capsule, cylinder or cone B.
+// Distance from a point (B's local frame) to a cylinder's or cone's core,
+// from the meridian half-section (radial >= 0, axial): the nearest of its
+// edges; `away` is the unit direction from the closest point (local frame).
+// For points outside the core (0 and an arbitrary `away` inside).
+template <class SB>
+double core_distance(const SB& b, const Vec& p, Vec& away) {
+  const double h = b.half_length, r = b.radius;
+  const double radial = std::hypot(p.x(), p.y());
+  const Eigen::Vector2d q(radial, p.z());
+  const bool cylinder = std::is_same_v<SB, Cylinder>;
+  // Base centre, rim, top rim (cylinder) or apex (cone), top centre.
+  const Eigen::Vector2d corners[4] = {{0.0, -h}, {r, -h}, {cylinder ? r : 0.0, h}, {0.0, h}};
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d closest = q;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector2d e = corners[k + 1] - corners[k];
+    const double len2 = e.squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((q - corners[k]).dot(e) / len2, 0.0, 1.0) : 0.0;
+    const Eigen::Vector2d c = corners[k] + t * e;
+    const double d = (q - c).norm();
+    if (d < best) {
+      best = d;
+      closest = c;
+    }
+  }
+  const Eigen::Vector2d w = best > 0.0 ? Eigen::Vector2d((q - closest) / best) : Eigen::Vector2d(0.0, 1.0);
+  const Vec radial_unit = radial > 0.0 ? Vec(p.x() / radial, p.y() / radial, 0.0) : Vec::UnitX();
+  away = w.x() * radial_unit + Vec(0.0, 0.0, w.y());
+  return best;
+}
+
+// How far the ray x + s d (A's frame; x on B's core, d unit and leaving the
+// core there) runs inside B's core grown by r: the root of
+// distance(x + s d) = r, between r (the distance grows at most as fast as
+// s) and 2 r (at least as fast as s |d . normal| > 1/2 near a face's normal).
+// The distance along a line is convex, so Newton's steps from 2 r decrease
+// monotonically onto the root: 3 to 4 steps to rounding (at most 16).
+template <class SB>
+double rounded_exit(const SB& b, const RelativePose& rel, const Vec& x, const Vec& d, double r) {
+  const Vec p = rel.rotation.transpose() * (x - rel.translation), dl = rel.rotation.transpose() * d;
+  double s = 2.0 * r;
+  for (int i = 0; i < 16; ++i) {
+    Vec away;
+    const double g = core_distance(b, p + s * dl, away) - r;
+    const double slope = away.dot(dl);
+    if (!(slope > 0.0)) break;
+    const double step = g / slope;
+    s -= step;
+    if (!(std::abs(step) > 4.0 * std::numeric_limits<double>::epsilon() * s)) break;
+  }
+  return std::clamp(s, r, 2.0 * r);
+}
+
+// penetration()'s witnesses as one more candidate when every clipped point
+// is shallower than they are by more than `slack` (1e-9 of the size). Its
+// normal is exact only to about the square root of its distance's error
+// (7e-6 rad seen: a side line over a face's edge, 0.05 apart), so B's line
+// extreme along that normal can start beyond the swept side plane by that
+// times the gap while the closest point lies on the plane: the clipping then
+// cuts the line where its gap is larger, by the line's tilt times the part
+// cut.
+void add_witnesses_if_missed(const ContactResult& first, const WorldFrame& world, double slack, CandidateList& c) {
+  for (std::size_t i = 0; i < c.size; ++i)
+    if (c[i].separation <= first.distance + slack) return;
+  FeatureId id;
+  id.kind = FeatureKind::single;
+  c.push(world.local(first.point_a), world.local(first.point_b), first.distance, id);
+}
+
+// The candidates of B's cap or straight side line lying on face f of A along
+// the normal n (A's frame, A -> B, within the angle tolerance of the face's
+// normal nf), see manifold.hpp; ContactPath::none when neither lies along
+// the face (or the clipping failed).
+template <class SB>
+ContactPath curved_candidates(const SatPolytope& pa, Index f, const Vec& n, const SB& b, const RelativePose& rel,
+                              const ContactSettings& settings, double tol, CandidateList& candidates) {
+  const Vec& nf = pa.plane(f).normal;
+  const Vec axis = rel.rotation.col(2);  // B's z in A's frame
+  const Vec centre = rel.translation;
+  const double h = b.half_length;
+  if constexpr (std::is_same_v<SB, Capsule>) {
+    if (!segment_on_face(pa, f, n, centre - h * axis, centre + h * axis, tol, candidates)) return ContactPath::none;
+    return ContactPath::segment;
+  } else {
+    // Cylinder: caps at +-h; cone: the base at -h only.
+    const double cos_tol = std::cos(settings.face_angle_tolerance);
+    const double an = axis.dot(nf);
+    const bool cylinder = std::is_same_v<SB, Cylinder>;
+    const bool cap_down = an >= cos_tol;             // the cap at -h faces A
+    const bool cap_up = cylinder && -an >= cos_tol;  // the cap at +h faces A
+    if (cap_down || cap_up) {
+      const Vec cn = cap_up ? axis : Vec(-axis);
+      cap_on_face(pa, f, n, centre + h * cn, cn, b.radius, rel.rotation.col(0), rel.rotation.col(1), tol, candidates);
+      return ContactPath::cap;
+    }
+    // The side's straight line extreme along -n (radial -n): from the base
+    // rim (a cylinder's and a cone's alike) to the top rim (cylinder) or the
+    // apex (cone).
+    Vec u = -(n - n.dot(axis) * axis);
+    const double un = u.norm();
+    if (!(un > 0.0)) return ContactPath::none;
+    u /= un;
+    const Vec s0 = centre - h * axis + b.radius * u;
+    const Vec s1 = cylinder ? Vec(centre + h * axis + b.radius * u) : Vec(centre + h * axis);
+    const Vec g = s1 - s0;
+    if (!(std::abs(g.dot(nf)) <= std::sin(settings.face_angle_tolerance) * g.norm())) return ContactPath::none;
+    if (!segment_on_face(pa, f, n, s0, s1, tol, candidates)) return ContactPath::none;
+    return ContactPath::segment;
+  }
+}
+
+// A polytope A against a capsule, cylinder or cone B. The manifold is built
+// around penetration()'s normal n: the face of A within the angle
+// tolerance of n is the reference, and B's cap or side line is clipped by
+// that face's side planes swept along n (not along the face's normal: where
+// the closest or deepest features are the face's edge and a part of B
+// hanging over it, n is tilted and that part lies beyond the face's side
+// plane but inside the swept one), so each point's separation is its gap
+// along n and the deepest point is penetration()'s (its witnesses added
+// where n's own error still cuts them away).
 template <class SA, class SB>
 ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
                              const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
@@ -1275,74 +1429,46 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
   const double ra = core_radius(a), rb = core_radius(b);
   const WorldFrame world{pose_a, core_offset(a)};
   const Vec n = pose_a.rotation.transpose() * first.normal;  // A's frame, A -> B
-  const double cos_tol = std::cos(settings.face_angle_tolerance);
-  const double sin_tol = std::sin(settings.face_angle_tolerance);
-  const Index f = face_along(pa, n, cos_tol);
+  const Index f = face_along(pa, n, std::cos(settings.face_angle_tolerance));
   if (f == hull::kInvalidIndex) return first;
-  const Vec& nf = pa.plane(f).normal;
   const double scale = std::max(pa.scale, bounding_radius(b));
   const double tol = geometric_tolerance(scale);
-  const Vec axis = rel.rotation.col(2);  // B's z in A's frame
   CandidateList candidates;
   ContactResult out;
   out.stats = first.stats;
-  if constexpr (std::is_same_v<SB, Capsule>) {
-    const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
-    if (!segment_on_face(pa, f, s0, s1, tol, candidates)) return first;
-    out.path = ContactPath::segment;
-  } else {
-    // Cylinder: caps at +-h; cone: the base at -h only.
-    const Vec centre = rel.translation;
-    const double h = b.half_length;
-    const double an = axis.dot(nf);
-    const bool cylinder = std::is_same_v<SB, Cylinder>;
-    const bool cap_down = an >= cos_tol;             // the cap at -h faces A
-    const bool cap_up = cylinder && -an >= cos_tol;  // the cap at +h faces A
-    // The side's straight line nearest the face, toward A (radial -n).
-    Vec u = -(nf - an * axis);
-    const double un = u.norm();
-    if (cap_down || cap_up) {
-      const Vec cn = cap_up ? axis : Vec(-axis);
-      cap_on_face(pa, f, centre + h * cn, cn, b.radius, rel.rotation.col(0), rel.rotation.col(1), tol, candidates);
-      out.path = ContactPath::cap;
-    } else if (un > 0.0) {
-      u /= un;
-      // From the base rim (a cylinder's and a cone's alike) to the top rim
-      // (cylinder) or the apex (cone).
-      const Vec s0 = centre - h * axis + b.radius * u;
-      const Vec s1 = cylinder ? Vec(centre + h * axis + b.radius * u) : Vec(centre + h * axis);
-      const Vec g = s1 - s0;
-      if (!(std::abs(g.dot(nf)) <= sin_tol * g.norm())) return first;  // not lying along the face
-      if (!segment_on_face(pa, f, s0, s1, tol, candidates)) return first;
-      out.path = ContactPath::segment;
-    } else {
-      return first;
-    }
-  }
+  out.path = curved_candidates(pa, f, n, b, rel, settings, tol, candidates);
+  if (out.path == ContactPath::none) return first;
   out.stats.clipped_points = static_cast<int>(candidates.size);
-  if constexpr (std::is_same_v<SB, Capsule>) {
-    // A capsule is round about its segment: each point's exit along -nf
-    // from the segment (r / sin of the tilt on the side, less near an end),
-    // not the radius, unless the segment lies along the face.
-    // A line through the segment (a capsule standing on the face) leaves it
-    // at the lower end's surface for both ends: one point, not two.
-    const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < candidates.size; ++i) {
-      Candidate x = candidates[i];
-      const double t = std::max(segment_exit(x.on_b, -nf, s0, s1, rb), segment_exit(x.on_b, -nf, s1, s0, rb));
-      x.on_a += ra * nf;
-      x.on_b -= t * nf;
-      x.separation -= ra + t;
-      bool repeated = false;
-      for (std::size_t k = 0; k < kept; ++k) repeated = repeated || (candidates[k].on_b - x.on_b).norm() <= tol;
-      if (!repeated) candidates[kept++] = x;
-    }
-    candidates.size = kept;
-    emit(candidates, nf, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), world, out);
-  } else {
-    emit(candidates, nf, ra, rb, keep_below(settings, scale + std::max(ra, rb)), world, out);
+  // Rounded surfaces: A's side where the line along n leaves A's core grown
+  // by ra (ra / cos of the tilt off the face, less near its edges). A
+  // capsule is round about its segment: each point's exit along -n from the
+  // segment (r / sin of the tilt on the side, less near an end), not the
+  // radius; a line through the segment (a capsule standing on the face)
+  // leaves it at the lower end's surface for both ends: one point, not two.
+  // Cylinders and cones: where the line along -n leaves the core grown by rb
+  // (rb / cos of its angle to the core's normal there, less near a rim).
+  const Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
+  const Vec axis = rel.rotation.col(2);
+  const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < candidates.size; ++i) {
+    Candidate x = candidates[i];
+    const double ta = ra > 0.0 ? exit_distance(pa, identity, f, x.on_a, n, ra) : 0.0;
+    double tb = 0.0;
+    if constexpr (std::is_same_v<SB, Capsule>)
+      tb = std::max(segment_exit(x.on_b, -n, s0, s1, rb), segment_exit(x.on_b, -n, s1, s0, rb));
+    else if (rb > 0.0)
+      tb = rounded_exit(b, rel, x.on_b, -n, rb);
+    x.on_a += ta * n;
+    x.on_b -= tb * n;
+    x.separation -= ta + tb;
+    bool repeated = false;
+    for (std::size_t k = 0; k < kept; ++k) repeated = repeated || (candidates[k].on_b - x.on_b).norm() <= tol;
+    if (!repeated) candidates[kept++] = x;
   }
+  candidates.size = kept;
+  add_witnesses_if_missed(first, world, settings.penetration.touching_band * scale, candidates);
+  emit(candidates, n, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), world, out);
   if (out.count == 0) return first;
   return out;
 }

@@ -1,8 +1,9 @@
 // Helpers shared by the collision tests: hull construction, seeded random
 // points and directions, world-frame vertices, support values of posed shapes
 // (for optimality checks of witness points and normals), point/segment/
-// triangle distances, and the exact reference distance between point sets
-// (tools/reference, independent of GJK/EPA).
+// triangle distances, the exact reference distance between point sets
+// (tools/reference, independent of GJK/EPA), and a point's signed distance
+// to a posed shape's surface.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -93,6 +94,56 @@ inline double reference_distance(const std::vector<Vec>& a, const std::vector<Ve
   const reference::ExactResult r = reference::exact_signed_distance(a, b);
   EXPECT_TRUE(r.ok) << r.reason;
   return std::max(0.0, r.distance);
+}
+
+// Distance from (x, y) to the segment p-q in the plane.
+inline double segment_distance_2d(const Eigen::Vector2d& x, const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+  const Eigen::Vector2d d = q - p;
+  const double t = std::clamp((x - p).dot(d) / d.squaredNorm(), 0.0, 1.0);
+  return (p + t * d - x).norm();
+}
+
+// Signed distance of a local point to a cone's core (apex (0, 0, h), base
+// disc of radius r at z = -h), exact: in the half-plane (radial, z) the core
+// is the triangle (0, -h), (r, -h), (0, h); outside, the distance to its base
+// and slant edges; inside, the larger of the two facets' signed distances.
+inline double cone_distance(const Cone& c, const Vec& local) {
+  const Eigen::Vector2d x(std::hypot(local.x(), local.y()), local.z());
+  const double h = c.half_length, r = c.radius;
+  const Eigen::Vector2d base0(0.0, -h), rim(r, -h), apex(0.0, h);
+  const Eigen::Vector2d slant_normal = Eigen::Vector2d(2.0 * h, r).normalized();  // out of the slant side
+  const double base = -h - x.y(), slant = slant_normal.dot(x - apex);
+  if (base <= 0.0 && slant <= 0.0) return std::max(base, slant);
+  return std::min(segment_distance_2d(x, base0, rim), segment_distance_2d(x, rim, apex));
+}
+
+// Signed distance of world point x to a posed shape's surface (margins
+// included): exact on and outside it (closed forms; a hull's through the
+// exact reference outside), <= 0 inside (hulls: the largest plane distance).
+inline double surface_distance(const Shape& s, const Pose& pose, const Vec& x) {
+  const Vec local = pose.rotation.transpose() * (x - pose.translation);
+  if (const Box* b = std::get_if<Box>(&s)) {
+    const Vec q = local.cwiseAbs() - b->half_extents;
+    return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0) - b->margin;
+  }
+  if (const Capsule* c = std::get_if<Capsule>(&s)) {
+    const Vec p(0.0, 0.0, std::clamp(local.z(), -c->half_length, c->half_length));
+    return (local - p).norm() - c->radius - c->margin;
+  }
+  if (const Sphere* b = std::get_if<Sphere>(&s)) return local.norm() - b->radius - b->margin;
+  if (const Cone* c = std::get_if<Cone>(&s)) return cone_distance(*c, local) - c->margin;
+  if (const Cylinder* c = std::get_if<Cylinder>(&s)) {
+    const double radial = std::hypot(local.x(), local.y()) - c->radius;
+    const double axial = std::abs(local.z()) - c->half_length;
+    return std::hypot(std::max(radial, 0.0), std::max(axial, 0.0)) + std::min(std::max(radial, axial), 0.0) - c->margin;
+  }
+  const Polyhedron& p = std::get<Polyhedron>(s);
+  const ConvexPolyhedron& h = *p.hull;
+  const Vec v = local - h.offset();
+  double plane = -INFINITY;
+  for (hull::Index f = 0; f < h.mesh().face_count(); ++f) plane = std::max(plane, h.mesh().plane(f).signed_distance(v));
+  if (plane <= 0.0) return plane - p.margin;
+  return reference_distance(world_vertices(h, pose), {x}) - p.margin;
 }
 
 // Exact signed distance of two point sets' hulls (world points), via qhull:

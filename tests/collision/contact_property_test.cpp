@@ -1,9 +1,10 @@
-// Property test of contact() over nineteen seeded pair families (random
+// Property test of contact() over twenty-one seeded pair families (random
 // hulls of 8 to 64 vertices, boxes, rounded boxes and hulls with margins of
 // 2 % to 10 % of the size, spheres, capsules, cylinders and cones, sharp and
 // rounded, against polytopes, 150 random poses each; and cones standing or
 // lying on a box's face, tilted by up to 5e-4 rad, 75 each, so that their
-// cap and side-line paths run), each pair penetrating
+// cap and side-line paths run; rounded cylinders the same way, often hanging
+// over the face's edge), each pair penetrating
 // or brought to touching (B moved along penetration()'s normal by its
 // distance). For every pair:
 //   * status ok and at least one point;
@@ -15,6 +16,9 @@
 //     its error bound and 1e-9 of the size);
 //   * contact()'s distance equals penetration()'s, or, where the face
 //     preference chose another axis, lies within the stated bias below it.
+// A second pass moves every pair apart to a gap within the contact distance
+// (5 % of the size): the same checks on speculative points (negative depth,
+// the gap along the normal).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -38,55 +42,6 @@ using Vec = Eigen::Vector3d;
 Pose random_pose(std::mt19937_64& rng, const Vec& t) {
   std::normal_distribution<double> g(0.0, 1.0);
   return Pose::from_quaternion(Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized(), t);
-}
-
-// Distance from (x, y) to the segment p-q in the plane.
-double segment_distance_2d(const Eigen::Vector2d& x, const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
-  const Eigen::Vector2d d = q - p;
-  const double t = std::clamp((x - p).dot(d) / d.squaredNorm(), 0.0, 1.0);
-  return (p + t * d - x).norm();
-}
-
-// Signed distance of a local point to a cone's core (apex (0, 0, h), base
-// disc of radius r at z = -h), exact: in the half-plane (radial, z) the core
-// is the triangle (0, -h), (r, -h), (0, h); outside, the distance to its base
-// and slant edges; inside, the larger of the two facets' signed distances.
-double cone_distance(const Cone& c, const Vec& local) {
-  const Eigen::Vector2d x(std::hypot(local.x(), local.y()), local.z());
-  const double h = c.half_length, r = c.radius;
-  const Eigen::Vector2d base0(0.0, -h), rim(r, -h), apex(0.0, h);
-  const Eigen::Vector2d slant_normal = Eigen::Vector2d(2.0 * h, r).normalized();  // out of the slant side
-  const double base = -h - x.y(), slant = slant_normal.dot(x - apex);
-  if (base <= 0.0 && slant <= 0.0) return std::max(base, slant);
-  return std::min(segment_distance_2d(x, base0, rim), segment_distance_2d(x, rim, apex));
-}
-
-// Signed distance of world point x to a posed shape: exact on and outside
-// the surface, <= 0 inside (hull cores: the largest plane distance).
-double signed_distance(const Shape& s, const Pose& pose, const Vec& x) {
-  const Vec local = pose.rotation.transpose() * (x - pose.translation);
-  if (const Box* b = std::get_if<Box>(&s)) {
-    const Vec q = local.cwiseAbs() - b->half_extents;
-    return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0) - b->margin;
-  }
-  if (const Capsule* c = std::get_if<Capsule>(&s)) {
-    const Vec p(0.0, 0.0, std::clamp(local.z(), -c->half_length, c->half_length));
-    return (local - p).norm() - c->radius - c->margin;
-  }
-  if (const Sphere* b = std::get_if<Sphere>(&s)) return local.norm() - b->radius - b->margin;
-  if (const Cone* c = std::get_if<Cone>(&s)) return cone_distance(*c, local) - c->margin;
-  if (const Cylinder* c = std::get_if<Cylinder>(&s)) {
-    const double radial = std::hypot(local.x(), local.y()) - c->radius;
-    const double axial = std::abs(local.z()) - c->half_length;
-    return std::hypot(std::max(radial, 0.0), std::max(axial, 0.0)) + std::min(std::max(radial, axial), 0.0) - c->margin;
-  }
-  const Polyhedron& p = std::get<Polyhedron>(s);
-  const ConvexPolyhedron& h = *p.hull;
-  const Vec v = local - h.offset();
-  double plane = -INFINITY;
-  for (hull::Index f = 0; f < h.mesh().face_count(); ++f) plane = std::max(plane, h.mesh().plane(f).signed_distance(v));
-  if (plane <= 0.0) return plane - p.margin;
-  return testing::reference_distance(testing::world_vertices(h, pose), {x}) - p.margin;
 }
 
 struct Pair {
@@ -195,6 +150,24 @@ std::vector<Pair> make_pairs(int per_family) {
     pairs.push_back(
         {box, c, Pose::identity(), Pose::from_quaternion(q, t), lying ? "cone_lying_on_box" : "cone_on_box"});
   }
+  // Rounded cylinders (margins 0.02 to 0.1) standing or lying on a box's top
+  // face the same way, placed anywhere over it up to 1.5 times its half
+  // extents (often hanging over an edge), 1e-3 to 5e-2 deep.
+  std::uniform_real_distribution<double> anywhere(-1.5, 1.5);
+  for (int i = 0; i < per_family; ++i) {
+    const Shape box = random_box(rng, 0.0);
+    const Vec half = std::get<Box>(box).half_extents;
+    const Cylinder c = std::get<Cylinder>(rounded_cylinder(rng, margin(rng)));
+    const bool lying = i % 2 == 1;
+    const Eigen::Quaterniond down =
+        lying ? Eigen::Quaterniond::FromTwoVectors(Vec::UnitX(), -Vec::UnitZ()) : Eigen::Quaterniond::Identity();
+    const Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(tilt(rng), random_unit(rng))) * down;
+    // The lowest point of the side line at x = r, or the base centre.
+    const Vec lowest = q * (lying ? Vec(c.radius, 0.0, 0.0) : Vec(0.0, 0.0, -c.half_length)) - Vec(0, 0, c.margin);
+    const Vec t(anywhere(rng) * half.x(), anywhere(rng) * half.y(), half.z() - depth(rng) - lowest.z());
+    pairs.push_back({box, c, Pose::identity(), Pose::from_quaternion(q, t),
+                     lying ? "rounded_cylinder_lying_on_box" : "rounded_cylinder_on_box"});
+  }
   return pairs;
 }
 
@@ -202,16 +175,20 @@ struct Worst {
   double surface = 0.0, below_exact = 0.0, distance_gap = 0.0;
   int pairs = 0, touching = 0, failures = 0, biased = 0;
   int cap = 0, segment = 0;  // cones' caps and side lines on a face
+  int cylinder_cap = 0, cylinder_segment = 0;
 };
 
-void check_pair(const Pair& p, const std::string& kind, Worst& worst) {
+void check_pair(const Pair& p, const std::string& kind, Worst& worst, const ContactSettings& settings = {}) {
   const double size = bounding_radius(p.a) + bounding_radius(p.b);
   const double tol = 1e-9 * size;
   const PenetrationResult pen = penetration(p.a, p.pa, p.b, p.pb);
   ASSERT_EQ(pen.status, Status::ok) << p.family << " " << kind;
-  const ContactSettings settings;
   const ContactResult c = contact(p.a, p.pa, p.b, p.pb, nullptr, settings);
   ++worst.pairs;
+  if (std::holds_alternative<Cylinder>(p.b)) {
+    worst.cylinder_cap += c.path == ContactPath::cap;
+    worst.cylinder_segment += c.path == ContactPath::segment;
+  }
   if (std::holds_alternative<Cone>(p.b)) {
     worst.cap += c.path == ContactPath::cap;
     worst.segment += c.path == ContactPath::segment;
@@ -227,7 +204,8 @@ void check_pair(const Pair& p, const std::string& kind, Worst& worst) {
   for (int k = 0; k < c.count; ++k) {
     const ContactPoint& q = c.points[k];
     const Vec on_a = q.point + 0.5 * q.depth * c.normal, on_b = q.point - 0.5 * q.depth * c.normal;
-    const double ea = std::abs(signed_distance(p.a, p.pa, on_a)), eb = std::abs(signed_distance(p.b, p.pb, on_b));
+    const double ea = std::abs(testing::surface_distance(p.a, p.pa, on_a)),
+                 eb = std::abs(testing::surface_distance(p.b, p.pb, on_b));
     worst.surface = std::max({worst.surface, ea / size, eb / size});
     EXPECT_LE(ea, tol) << "point " << k << " off A's surface";
     EXPECT_LE(eb, tol) << "point " << k << " off B's surface";
@@ -269,6 +247,37 @@ TEST(ContactProperty, PenetratingAndTouchingPairsGetExactPoints) {
   std::printf("cone pairs on the cap path %d, on the side-line path %d\n", worst.cap, worst.segment);
   EXPECT_GT(worst.cap, 100);
   EXPECT_GT(worst.segment, 100);
+  std::printf("cylinder pairs on the cap path %d, on the side-line path %d\n", worst.cylinder_cap,
+              worst.cylinder_segment);
+  EXPECT_GT(worst.cylinder_cap, 100);
+  EXPECT_GT(worst.cylinder_segment, 100);
+}
+
+// Within the contact distance: each pair moved apart along penetration()'s
+// normal to a gap of 0 to contact_distance (5 % of the size), so that every
+// point is speculative (negative depth: the gap along the normal there) and
+// the same checks hold.
+TEST(ContactProperty, PairsWithinTheContactDistanceGetExactSpeculativePoints) {
+  Worst worst;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> fraction(0.0, 1.0);
+  for (const Pair& p : make_pairs(150)) {
+    const PenetrationResult pen = penetration(p.a, p.pa, p.b, p.pb);
+    if (pen.status != Status::ok || !(pen.distance < 0.0)) continue;
+    const double size = bounding_radius(p.a) + bounding_radius(p.b);
+    ContactSettings settings;
+    settings.contact_distance = 0.05 * size;
+    Pair t = p;
+    t.pb.translation += (-pen.distance + fraction(rng) * settings.contact_distance) * pen.normal;
+    const PenetrationResult apart = penetration(t.a, t.pa, t.b, t.pb);
+    if (apart.status != Status::ok || !(apart.distance < settings.contact_distance)) continue;
+    check_pair(t, "within the contact distance", worst, settings);
+  }
+  std::printf(
+      "pairs %d, without points %d, another axis by the bias %d; worst / size: off surface %.3g, below exact %.3g, "
+      "distance gap %.3g\n",
+      worst.pairs, worst.failures, worst.biased, worst.surface, worst.below_exact, worst.distance_gap);
+  EXPECT_GT(worst.pairs, 1500);
 }
 
 }  // namespace

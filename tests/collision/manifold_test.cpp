@@ -536,6 +536,90 @@ TEST(Manifold, CylinderStandingOnItsCapGivesRimPoints) {
   EXPECT_EQ(cone.count, 4);
 }
 
+// A side line or a cap whose normal is within face_angle_tolerance of a
+// face's normal, hanging over that face's edge with its lowest part beyond
+// it: the exact normal is tilted (the closest or deepest features are the
+// face's edge and the overhanging part). Taking the face's normal instead
+// and clipping by the face's side planes along it cut that part away, so the
+// deepest point was shallower (penetrating) or farther (within the contact
+// distance) than penetration()'s by the tilt times the overhang (3.5e-4 here).
+// Clipped along penetration()'s normal (and with penetration()'s witnesses
+// added where that normal's error still cuts them away), the deepest point
+// is penetration()'s.
+TEST(Manifold, CurvedContactsClipAlongTheExactNormalSoAPartOverhangingTheFaceEdgeKeepsTheDeepestPoint) {
+  const Vec half(0.6, 0.9, 0.8);
+  const Shape box = Box{half};
+  const Cylinder cyl{0.4, 0.7};
+  const Eigen::Quaterniond lying = Eigen::Quaterniond::FromTwoVectors(Vec::UnitZ(), Vec::UnitY());
+  const Eigen::Quaterniond standing(Eigen::AngleAxisd(8e-4, Vec::UnitY()));  // the rim's lowest point on +x
+  struct Case {
+    const char* name;
+    Eigen::Quaterniond q;
+    Vec centre;  // at a gap of 0
+    ContactPath path;
+  };
+  // Lying along y across the edge x = 0.6: turned 2e-5 about z (the -y half
+  // hangs over by up to 1.4e-5) and 5e-4 about x (the -y end is the lowest).
+  // Standing: tilted 8e-4 about y, its lowest rim point 4e-5 beyond the same edge.
+  const Case cases[] = {
+      {"lying",
+       Eigen::Quaterniond(Eigen::AngleAxisd(2e-5, Vec::UnitZ())) *
+           Eigen::Quaterniond(Eigen::AngleAxisd(5e-4, Vec::UnitX())) * lying,
+       Vec(0.6, 0.0, 0.8 + 0.4), ContactPath::segment},
+      {"standing", standing, Vec(0.6 + 4e-5, 0.0, 0.8) - standing * Vec(0.4, 0.0, -0.7), ContactPath::cap},
+  };
+  ContactSettings settings;
+  settings.contact_distance = 0.1;
+  const double size = bounding_radius(box) + bounding_radius(Shape(cyl));
+  for (const Case& c : cases)
+    for (const double gap : {0.05, 0.0, -0.03}) {
+      SCOPED_TRACE(std::string(c.name) + " gap " + std::to_string(gap));
+      const Pose pc = Pose::from_quaternion(c.q, c.centre + Vec(0, 0, gap));
+      const PenetrationResult pen = penetration(box, Pose::identity(), cyl, pc);
+      ASSERT_EQ(pen.status, Status::ok);
+      const ContactResult r = contact(box, Pose::identity(), cyl, pc, nullptr, settings);
+      EXPECT_EQ(r.path, c.path);
+      ASSERT_GE(r.count, 1);
+      const double tol = pen.error_bound + 1e-9 * size;
+      double deepest = -INFINITY;
+      for (int k = 0; k < r.count; ++k) {
+        deepest = std::max(deepest, r.points[k].depth);
+        // On the box's top face, or within the clipping tolerance beyond its edge.
+        EXPECT_NEAR(on_a(r.points[k], r).z(), half.z(), tol) << "point " << k;
+        EXPECT_LE(std::abs(box_distance(half, Pose::identity(), on_a(r.points[k], r))), 1e-6 * size) << "point " << k;
+        EXPECT_LE(std::abs(testing::surface_distance(cyl, pc, on_b(r.points[k], r))), tol) << "point " << k;
+      }
+      EXPECT_NEAR(deepest, -pen.distance, tol);
+      EXPECT_NEAR(r.distance, pen.distance, tol);
+    }
+}
+
+// A rounded cylinder's margin was added along the normal as a length, which
+// is where the line along the normal leaves the rounded surface only when
+// the normal is the core's normal there: off a cap or side line tilted by
+// theta it leaves at margin / cos(theta) (3.2e-8 later here), and near a rim
+// earlier. The exit is now solved on the rounded surface itself.
+TEST(Manifold, ARoundedCylindersMarginIsItsExitAlongTheNormalNotItsLength) {
+  const Vec half(1.0, 1.0, 0.5);
+  const Shape box = Box{half};
+  const Cylinder cyl{0.4, 0.6, 0.1};
+  const double size = bounding_radius(box) + bounding_radius(Shape(cyl));
+  const Eigen::Quaterniond tilt(Eigen::AngleAxisd(8e-4, Vec(1.0, 2.0, 0.0).normalized()));
+  const Eigen::Quaterniond lying = tilt * Eigen::Quaterniond::FromTwoVectors(Vec::UnitX(), -Vec::UnitZ());
+  const Pose poses[] = {Pose::from_quaternion(tilt, Vec(0.2, 0.1, 0.5 + 0.6 + 0.1 - 0.01)),
+                        Pose::from_quaternion(lying, Vec(0.2, 0.1, 0.5 + 0.4 + 0.1 - 0.01))};
+  const ContactPath paths[] = {ContactPath::cap, ContactPath::segment};
+  for (int i = 0; i < 2; ++i) {
+    const ContactResult r = contact(box, Pose::identity(), cyl, poses[i]);
+    EXPECT_EQ(r.path, paths[i]);
+    ASSERT_GE(r.count, 2);
+    for (int k = 0; k < r.count; ++k) {
+      EXPECT_NEAR(box_distance(half, Pose::identity(), on_a(r.points[k], r)), 0.0, 1e-9 * size) << i << " " << k;
+      EXPECT_NEAR(testing::surface_distance(cyl, poses[i], on_b(r.points[k], r)), 0.0, 1e-9 * size) << i << " " << k;
+    }
+  }
+}
+
 TEST(Manifold, FacesBeyondTheFixedBuffersFallBackToOnePoint) {
   // A 300-gon prism: its caps exceed the clip buffers (256 points), so a box
   // on a cap gets one point from penetration(), still at the right depth.

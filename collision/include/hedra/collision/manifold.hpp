@@ -38,13 +38,16 @@
 //     The reported depth is therefore at most that bias above the exact
 //     penetration depth.
 //   * a capsule against a polytope: the penetration normal (penetration());
-//     when it is a face normal of the polytope (within face_angle_tolerance)
-//     the capsule's segment is clipped by that face's side planes: one or two
-//     points (a capsule lying on a face gets two); otherwise one point.
+//     when it is within face_angle_tolerance of a face normal of the
+//     polytope the capsule's segment is clipped by that face's side planes
+//     swept along the normal: one or two points (a capsule lying on a face
+//     gets two); otherwise one point. Curved paths keep penetration()'s
+//     normal (the points' depths are gaps along it) and add its witnesses
+//     when every clipped point is shallower than they are.
 //   * a cylinder or cone against a polytope: the penetration normal; when it
-//     is a face normal and a flat cap of the shape lies against that face
+//     is near a face normal and a flat cap of the shape lies against that face
 //     (cap axis within face_angle_tolerance of the normal) the exact region
-//     cap disc x face polygon is sampled without approximating the disc by a
+//     cap disc x face polygon (projected along the normal) is sampled without approximating the disc by a
 //     polygon: candidates are the disc's rim points on the shape's local +-x,
 //     +-y and the deepest rim point (when inside the polygon), the polygon's
 //     vertices inside the disc, and the exact crossings of the polygon's
@@ -57,10 +60,11 @@
 // Margins (rounded shapes): every point's depth is the gap of the rounded
 // surfaces on its line along the normal (the reference side its radius out
 // of the face; the incident side where the line leaves the incident core
-// grown by its radius: r / cos(tilt) off a tilted face). Cores apart: SAT
-// only bounds their distance, so the manifold follows GJK's normal of the
-// cores (a face contact when it is a face normal of A or B within 1e-6 rad,
-// else penetration()'s point). A face contact whose kept points are
+// grown by its radius: r / cos(tilt) off a tilted face). Cores apart
+// (rounded or sharp, within the contact distance): SAT only bounds their
+// distance, so the manifold follows GJK's normal of the cores (a face
+// contact when it is a face normal of A or B within 1e-6 rad, else
+// penetration()'s point). A face contact whose kept points are
 // shallower than its axis by more than the bias (the deepest incident
 // vertex clipped away) is penetration()'s point too.
 //
@@ -205,8 +209,8 @@ struct ContactResult {
   Status status = Status::ok;
   bool intersecting = false;  // distance <= 0
   // Signed distance along `normal`: < 0 the penetration depth of the chosen
-  // axis. For a separated polytope pair it is the SAT separation, a lower
-  // bound on the distance (exact for face contacts).
+  // axis. For a polytope pair separated beyond the contact distance it is
+  // the SAT separation, a lower bound on the distance.
   double distance = 0.0;
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, from A toward B, world
   // The deepest point's witnesses on A and B (world).
