@@ -704,6 +704,7 @@ struct QuickhullBuilder::Impl {
     }
   };
   detail::OutsideSearch<WorkFaces> outside_search;
+  std::vector<Vec3> hull_vertices;  // the current hull's vertices, for the search's map
 
   // Puts every point that is not a vertex and lies more than 6 eps in front
   // of a face of the current hull on the conflict list of the face it is
@@ -712,17 +713,24 @@ struct QuickhullBuilder::Impl {
     ++stamp;
     Vec3 c = Vec3::Zero();
     double count = 0;
+    hull_vertices.clear();
+    Index largest = kInvalidIndex;
     for (Index f = 0; f < faces.size(); ++f) {
       if (faces[f].mark != Mark::alive) continue;
       c += faces[f].centroid, count += 1;
+      if (largest == kInvalidIndex || faces[f].area > faces[largest].area) largest = f;
       Index e = faces[f].edge;
       std::size_t guard = 0;
       do {
+        if (point_stamp[edges[e].origin] != stamp) hull_vertices.push_back(pts[edges[e].origin]);
         point_stamp[edges[e].origin] = stamp;
         e = edges[e].next;
       } while (e != faces[f].edge && ++guard <= edges.size());
     }
-    if (count == 0 || !outside_search.prepare(WorkFaces{this}, c / count)) return 0;
+    if (count == 0) return 0;
+    c /= count;
+    if (!outside_search.prepare(WorkFaces{this}, c, detail::rounding_map(hull_vertices, c, faces[largest].normal)))
+      return 0;
     std::size_t reinserted = 0;
     for (Index i = 0; i < n; ++i) {
       if (point_stamp[i] == stamp) continue;  // a vertex
@@ -1271,8 +1279,19 @@ double max_outside_distance(const HalfEdgeMesh& mesh, const std::vector<Eigen::V
   Vec3 c = Vec3::Zero();
   for (const auto& v : mesh.vertices) c += v.position;
   c /= static_cast<double>(mesh.vertex_count());
+  std::vector<Vec3> positions;
+  positions.reserve(mesh.vertex_count());
+  for (const auto& v : mesh.vertices) positions.push_back(v.position);
+  Index largest = 0;
+  double largest_area = -1;
+  for (Index f = 0; f < mesh.face_count(); ++f) {
+    Vec3 newell = Vec3::Zero();
+    for (Index e : mesh.face_edges(f))
+      newell += (mesh.position(mesh.origin(e)) - c).cross(mesh.position(mesh.destination(e)) - c);
+    if (newell.norm() > largest_area) largest_area = newell.norm(), largest = f;
+  }
   detail::OutsideSearch<MeshFaces> search;
-  if (!search.prepare(MeshFaces{&mesh}, c)) {
+  if (!search.prepare(MeshFaces{&mesh}, c, detail::rounding_map(positions, c, mesh.plane(largest).normal))) {
     // Not a proper solid around its vertex average: check every plane.
     for (const auto& p : points)
       for (Index f = 0; f < mesh.face_count(); ++f) worst = std::max(worst, mesh.plane(f).signed_distance(p));
