@@ -71,7 +71,7 @@ class OutsideSearch {
     if (!from_round_.allFinite()) to_round_ = from_round_ = Eigen::Matrix3d::Identity();
     const std::size_t nf = a.face_count();
     height_.assign(nf, 0.0);
-    inner_ = std::numeric_limits<double>::infinity();
+    inner_ = ball_ = std::numeric_limits<double>::infinity();
     Index any = kInvalidIndex;
     for (Index f = 0; f < nf; ++f) {
       if (!a.live(f)) continue;
@@ -80,12 +80,16 @@ class OutsideSearch {
       // The ellipsoid |to_round_ x| < r lies behind this face when
       // r |to_round_^-T n| < h.
       inner_ = std::min(inner_, height_[f] / (from_round_.transpose() * a.normal(f)).norm());
+      ball_ = std::min(ball_, height_[f]);
       any = f;
     }
     if (any == kInvalidIndex) return false;
-    // Shrunk by a millionth: a point the ellipsoid touches a face at is on
-    // the surface, and rounding must not decide it is inside.
+    // Both shrunk by a millionth: a point where they touch a face is on the
+    // surface, and rounding must not decide it is inside.
     inner_ *= 1 - 1e-6;
+    inner_squared_ = inner_ * inner_;
+    ball_ *= 1 - 1e-6;
+    ball_squared_ = ball_ * ball_;
     any_ = any;
     cell_face_.clear();  // built on the first point outside the inner ellipsoid
     stamp_.assign(nf, 0);
@@ -97,8 +101,9 @@ class OutsideSearch {
   // 0} when p is behind (or on) every face.
   std::pair<Index, double> farthest_face_in_front(const Eigen::Vector3d& p) {
     const Eigen::Vector3d rel = p - c_;
+    if (rel.squaredNorm() < ball_squared_) return {kInvalidIndex, 0.0};  // in the ball around c: cheaper
     const Eigen::Vector3d round_rel = to_round_ * rel;
-    if (round_rel.norm() < inner_) return {kInvalidIndex, 0.0};
+    if (round_rel.squaredNorm() < inner_squared_) return {kInvalidIndex, 0.0};
     if (cell_face_.empty()) build_cube_map();
     Index face = climb(cell_face_[cell_of(round_rel)], rel);
     double best_d = distance(face, p);
@@ -207,7 +212,8 @@ class OutsideSearch {
   Eigen::Vector3d c_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d to_round_ = Eigen::Matrix3d::Identity(), from_round_ = Eigen::Matrix3d::Identity();
   std::vector<double> height_;
-  double inner_ = 0;
+  double inner_ = 0, inner_squared_ = 0;  // the ellipsoid's radius in round coordinates
+  double ball_ = 0, ball_squared_ = 0;    // the inscribed ball's around c
   int k_ = 1;
   Index any_ = kInvalidIndex;
   std::vector<Index> cell_face_;
