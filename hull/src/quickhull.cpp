@@ -111,6 +111,8 @@ struct QuickhullBuilder::Impl {
   };
   std::vector<Frame> stack;
   double eps = 0;
+  std::size_t compacted_size = 0;                   // the face count after the last compact_working
+  std::vector<Index> face_renumber, edge_renumber;  // compact_working's maps
 
   // ---- face helpers -----------------------------------------------------
   void update_face(Index f) {
@@ -819,6 +821,7 @@ struct QuickhullBuilder::Impl {
   void add_tetrahedron(Simplex s, std::size_t n) {
     edges.clear();
     faces.clear();
+    compacted_size = 0;
     collapsed = false;
     conflict_next.assign(n, kInvalidIndex);
     point_stamp.assign(n, 0);
@@ -890,6 +893,7 @@ struct QuickhullBuilder::Impl {
         ++cursor;
         continue;
       }
+      if (faces.size() >= 2 * compacted_size + 4096) cursor = compact_working(cursor);
       if (r.iterations >= cap) {
         r.status = QuickhullStatus::iteration_limit;
         r.error = "iteration cap of " + std::to_string(cap) + " reached";
@@ -902,6 +906,59 @@ struct QuickhullBuilder::Impl {
       if (near_vertex_of(cursor, eye)) continue;
       add_eye(eye, cursor);
     }
+  }
+
+  // Removed faces and edges stay in the arrays during a build (the cursor
+  // walks faces in creation order). When the face array has doubled since
+  // the last time, the live faces and edges move down, in order, and every
+  // link is renumbered: memory stays within a few times the live hull's, and
+  // the walks over faces meet fewer dead ones. Order is kept, so the build
+  // makes the same decisions. Returns the cursor's new index. Live edges are
+  // the cycles of live faces; if a link of one leads to a dead element, the
+  // structure is left as it is (the end checks will tell).
+  Index compact_working(Index cursor) {
+    compacted_size = faces.size();
+    face_renumber.assign(faces.size(), kInvalidIndex);
+    edge_renumber.assign(edges.size(), kInvalidIndex);
+    Index nf = 0, ne = 0;
+    for (Index f = 0; f < faces.size(); ++f) {
+      if (faces[f].mark != Mark::alive) continue;
+      face_renumber[f] = nf++;
+      Index e = faces[f].edge;
+      std::size_t guard = 0;
+      do {
+        edge_renumber[e] = 0;  // live; numbered below, in index order
+        e = edges[e].next;
+      } while (e != faces[f].edge && ++guard <= edges.size());
+    }
+    for (Index e = 0; e < edges.size(); ++e)
+      if (edge_renumber[e] != kInvalidIndex) edge_renumber[e] = ne++;
+    for (Index e = 0; e < edges.size(); ++e) {
+      if (edge_renumber[e] == kInvalidIndex) continue;
+      const WorkEdge& w = edges[e];
+      if (edge_renumber[w.twin] == kInvalidIndex || edge_renumber[w.next] == kInvalidIndex ||
+          edge_renumber[w.prev] == kInvalidIndex || face_renumber[w.face] == kInvalidIndex)
+        return cursor;
+    }
+    // In place: an element's new index is never above its old one.
+    for (Index e = 0; e < edges.size(); ++e) {
+      if (edge_renumber[e] == kInvalidIndex) continue;
+      WorkEdge w = edges[e];
+      w.twin = edge_renumber[w.twin], w.next = edge_renumber[w.next], w.prev = edge_renumber[w.prev];
+      w.face = face_renumber[w.face];
+      edges[edge_renumber[e]] = w;
+    }
+    for (Index f = 0; f < faces.size(); ++f) {
+      if (face_renumber[f] == kInvalidIndex) continue;
+      WorkFace face = faces[f];
+      face.edge = edge_renumber[face.edge];
+      faces[face_renumber[f]] = face;
+    }
+    const Index moved = face_renumber[cursor];
+    faces.resize(nf);
+    edges.resize(ne);
+    compacted_size = nf;
+    return moved;
   }
 
   // Unlinks the farthest conflict point of face f (the eye) and returns it,
