@@ -5,11 +5,13 @@
 //     points, so output vertices are input points by construction;
 //   * faces carry a plane, centroid and area (Newell's method) and an
 //     intrusive singly-linked conflict list (conflict_next_ per point);
-//   * faces and edges are never freed during a build: removed faces are
-//     marked deleted and the structure is compacted once at the end.
-// Faces are processed in creation order (a cursor over the face array): every
-// face that can ever hold conflict points is created after the cursor, so one
-// pass over the array visits them all.
+//   * removed faces are marked deleted and stay in place; when the face
+//     array has doubled, the live faces and edges move down in order
+//     (compact_working), and the end compacts the rest in the same walk
+//     that checks the solid (survey).
+// Faces are processed in creation order (a cursor over the face array, which
+// the moves keep): every face that can ever hold conflict points is created
+// after the cursor, so one pass over the array visits them all.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
