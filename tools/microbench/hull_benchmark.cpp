@@ -112,6 +112,11 @@ Points sphere_surface(std::size_t n, std::uint64_t seed) {
   return p;
 }
 
+// Fisher-Yates with the engine's raw bits (standard-fixed, like uniform()).
+void shuffle(Points& p, std::mt19937_64& engine) {
+  for (std::size_t i = p.size(); i > 1; --i) std::swap(p[i - 1], p[engine() % i]);
+}
+
 // The surface of the cube [-(k-1), k-1]^3 sampled at every second integer:
 // k x k points per face, points on shared edges and corners once.
 Points cube_grid(int k, std::uint64_t seed) {
@@ -125,7 +130,7 @@ Points cube_grid(int k, std::uint64_t seed) {
     }
   }
   std::mt19937_64 engine(seed);  // shuffled: no help from a sorted order
-  for (std::size_t i = p.size(); i > 1; --i) std::swap(p[i - 1], p[engine() % i]);
+  shuffle(p, engine);
   return p;
 }
 
@@ -162,7 +167,7 @@ Points duplicated_sphere(std::size_t n, std::uint64_t seed) {
   std::mt19937_64 engine(seed + 1);
   for (std::size_t i = 0, half = p.size(); i < half; ++i)
     p.push_back(engine() % 2 ? p[i] : Eigen::Vector3d(p[i] + Eigen::Vector3d(1e-15, -1e-15, 0.5e-15)));
-  for (std::size_t i = p.size(); i > 1; --i) std::swap(p[i - 1], p[engine() % i]);
+  shuffle(p, engine);
   return p;
 }
 
