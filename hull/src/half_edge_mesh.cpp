@@ -7,6 +7,8 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "mesh_checks.hpp"
+
 namespace hedra::hull {
 
 std::string ValidationReport::to_string() const {
@@ -285,8 +287,15 @@ void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Repor
   // Winding agrees with the normal: Newell's vector points along it.
   const Eigen::Vector3d c = m.face_centroid(f);
   Eigen::Vector3d newell = Eigen::Vector3d::Zero();
-  double turning = 0;
+  // The turning angle adds up atan2(sine, cosine) of each corner in order;
+  // the first three wait, since a triangle may not need them (below).
+  double turning = 0, sines[3] = {}, cosines[3] = {};
+  int corners = 0, turns = 0, left_turns = 0;
+  const auto add_waiting = [&] {
+    for (int i = 0; i < std::min(turns, 3); ++i) turning += std::atan2(sines[i], cosines[i]);
+  };
   for (Index e : m.face_edges(f)) {
+    ++corners;
     const Eigen::Vector3d a = m.position(m.origin(e)), b = m.position(m.destination(e));
     newell += (a - c).cross(b - c);
     if (std::abs(pl.signed_distance(a)) > tol)
@@ -302,7 +311,15 @@ void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Repor
       if (side.dot(dn) > tol)
         err(name() + " is not convex at vertex " + std::to_string(m.destination(e)) + " (turns outward by " +
             std::to_string(side.dot(dn)) + ")");
-      turning += std::atan2(d.cross(dn).dot(pl.normal), d.dot(dn));
+      const double turn_sine = d.cross(dn).dot(pl.normal);
+      left_turns += turn_sine > 0;
+      if (turns < 3) {
+        sines[turns] = turn_sine, cosines[turns] = d.dot(dn);
+      } else {
+        if (turns == 3) add_waiting();
+        turning += std::atan2(turn_sine, d.dot(dn));
+      }
+      ++turns;
     }
   }
   if (newell.dot(pl.normal) <= 0) err(name() + " is wound against its plane normal");
@@ -310,7 +327,14 @@ void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Repor
   // total is a whole number of turns up to rounding, and on faces whose
   // edges are a few tolerances long (a cut just past a vertex) that rounding
   // reaches 1e-5, so half a turn is the threshold that separates the two.
-  if (std::abs(turning - 2 * M_PI) > M_PI) err(name() + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
+  // A triangle turning left at all three corners turns between half a turn
+  // and one and a half (its edges are coplanar; at most one of its exterior
+  // angles is below a right angle): nothing to add up.
+  const bool left_triangle = corners == 3 && left_turns == 3;
+  if (!left_triangle) {
+    if (turns <= 3) add_waiting();
+    if (std::abs(turning - 2 * M_PI) > M_PI) err(name() + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
+  }
   // Convex edges: the vertices next to each edge in the neighbouring face
   // are behind this face's plane.
   for (Index e : m.face_edges(f)) {
@@ -389,6 +413,15 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
   for (Index f = 0; f < F; ++f) check_face_geometry(*this, f, tol, err);
   if (!exhaustive || !r.ok()) return r;
   check_containment(*this, tol, err);
+  return r;
+}
+
+ValidationReport detail::validate_rings_and_faces(const HalfEdgeMesh& mesh, double tol) {
+  ValidationReport r;
+  const Reporter err{r};
+  check_vertex_rings(mesh, err);
+  if (!r.ok()) return r;
+  for (Index f = 0; f < mesh.faces.size(); ++f) check_face_geometry(mesh, f, tol, err);
   return r;
 }
 

@@ -4,7 +4,12 @@
 // interior point c, the exit face of the ray c -> p maximises a linear
 // function of the polar dual's vertex, so hill-climbing over face adjacency
 // finds it (derivation: docs/design.md, hull); the faces seeing p around it
-// are then walked for the largest distance.
+// are then walked for the largest distance. The exit face does not change
+// under an affine map of space, so directions are sorted into the start
+// cells, and the early-out ellipsoid is fitted, in coordinates where the
+// hull's vertex spread is round: a slab 1e-9 thick is then no harder than a
+// ball (a sphere around c would be 1e-9 wide, and cells of raw directions
+// would start every climb on the slab's top or bottom, far from the rim).
 //
 // Adapter requirements (A):
 //   std::size_t face_count() const;   bool live(Index f) const;
@@ -22,29 +27,71 @@
 
 namespace hedra::hull::detail {
 
+// A map x -> R x under which a hull looks round: rows u_i / w_i for three
+// orthonormal directions, the normal of its largest face (across which a
+// flat hull is thin), the direction across it to the vertex farthest from c,
+// and the third; w_i the hull's width along u_i (from the vertices, so a
+// slab 1e-9 thick gets its width to 1e-16; a covariance's eigenvalues would
+// not resolve it).
+inline Eigen::Matrix3d rounding_map(const std::vector<Eigen::Vector3d>& vertices, const Eigen::Vector3d& c,
+                                    const Eigen::Vector3d& largest_face_normal) {
+  Eigen::Matrix3d u;
+  u.row(0) = largest_face_normal.normalized();
+  Eigen::Vector3d across = Eigen::Vector3d::Zero();
+  for (const auto& v : vertices) {
+    const Eigen::Vector3d d = (v - c) - u.row(0).dot(v - c) * u.row(0).transpose();
+    if (d.squaredNorm() > across.squaredNorm()) across = d;
+  }
+  if (!u.row(0).allFinite() || !(across.norm() > 0)) return Eigen::Matrix3d::Identity();
+  u.row(1) = across.normalized();
+  u.row(2) = u.row(0).cross(u.row(1)).normalized();
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& v : vertices) {
+    const Eigen::Vector3d x = u * v;
+    lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  }
+  const Eigen::Vector3d width = hi - lo;
+  if (!(width.minCoeff() > 0) || !width.allFinite()) return Eigen::Matrix3d::Identity();
+  return width.cwiseInverse().asDiagonal() * u;
+}
+
 template <class A>
 class OutsideSearch {
  public:
   // Prepares for queries against the live faces of `a` around interior point
-  // `c`. Returns false when c is not strictly behind every live face.
+  // `c`; `round` maps space so that the hull looks round (rounding_map
+  // above; any invertible matrix will do: it only shapes the cells and the
+  // ellipsoid). Returns false when c is not strictly behind every live face.
   // The adapter is copied (it is a view: a pointer to the faces).
-  bool prepare(const A& a, const Eigen::Vector3d& c) {
+  bool prepare(const A& a, const Eigen::Vector3d& c, const Eigen::Matrix3d& round) {
     a_ = a;
     c_ = c;
+    to_round_ = round;
+    from_round_ = round.inverse();
+    if (!from_round_.allFinite()) to_round_ = from_round_ = Eigen::Matrix3d::Identity();
     const std::size_t nf = a.face_count();
     height_.assign(nf, 0.0);
-    inner_ = std::numeric_limits<double>::infinity();
+    inner_ = ball_ = std::numeric_limits<double>::infinity();
     Index any = kInvalidIndex;
     for (Index f = 0; f < nf; ++f) {
       if (!a.live(f)) continue;
       height_[f] = a.offset(f) - a.normal(f).dot(c);
       if (!(height_[f] > 0)) return false;
-      inner_ = std::min(inner_, height_[f]);
+      // The ellipsoid |to_round_ x| < r lies behind this face when
+      // r |to_round_^-T n| < h.
+      inner_ = std::min(inner_, height_[f] / (from_round_.transpose() * a.normal(f)).norm());
+      ball_ = std::min(ball_, height_[f]);
       any = f;
     }
     if (any == kInvalidIndex) return false;
+    // Both shrunk by a millionth: a point where they touch a face is on the
+    // surface, and rounding must not decide it is inside.
+    inner_ *= 1 - 1e-6;
+    inner_squared_ = inner_ * inner_;
+    ball_ *= 1 - 1e-6;
+    ball_squared_ = ball_ * ball_;
     any_ = any;
-    cell_face_.clear();  // built on the first point outside the inner sphere
+    cell_face_.clear();  // built on the first point outside the inner ellipsoid
     stamp_.assign(nf, 0);
     round_ = 0;
     return true;
@@ -54,9 +101,11 @@ class OutsideSearch {
   // 0} when p is behind (or on) every face.
   std::pair<Index, double> farthest_face_in_front(const Eigen::Vector3d& p) {
     const Eigen::Vector3d rel = p - c_;
-    if (rel.norm() < inner_) return {kInvalidIndex, 0.0};
+    if (rel.squaredNorm() < ball_squared_) return {kInvalidIndex, 0.0};  // in the ball around c: cheaper
+    const Eigen::Vector3d round_rel = to_round_ * rel;
+    if (round_rel.squaredNorm() < inner_squared_) return {kInvalidIndex, 0.0};
     if (cell_face_.empty()) build_cube_map();
-    Index face = climb(cell_face_[cell_of(rel)], rel);
+    Index face = climb(cell_face_[cell_of(round_rel)], rel);
     double best_d = distance(face, p);
     if (!(best_d > 0)) {
       // The exit face comes from a ratio whose denominator h_f is tiny for
@@ -111,9 +160,9 @@ class OutsideSearch {
   void build_cube_map() {
     std::size_t live = 0;
     for (Index f = 0; f < height_.size(); ++f) live += a_.live(f);
-    // About four faces a cell: each climb then takes a step or two, and the
+    // About one face a cell: each climb then takes a step or two, and the
     // map costs a fraction of the faces' count to build.
-    k_ = static_cast<int>(std::clamp(std::sqrt(static_cast<double>(live) / 24.0), 1.0, 64.0));
+    k_ = static_cast<int>(std::clamp(std::sqrt(static_cast<double>(live) / 6.0), 1.0, 64.0));
     cell_face_.resize(static_cast<std::size_t>(6 * k_ * k_));
     Index face = any_;
     for (int side = 0; side < 6; ++side)
@@ -124,7 +173,7 @@ class OutsideSearch {
           d[axis] = side % 2 ? 1.0 : -1.0;
           d[(axis + 1) % 3] = (iu + 0.5) / k_ * 2 - 1;
           d[(axis + 2) % 3] = (iv + 0.5) / k_ * 2 - 1;
-          face = climb(face, d);
+          face = climb(face, from_round_ * d);
           cell_face_[static_cast<std::size_t>((side * k_ + iu) * k_ + iv)] = face;
         }
   }
@@ -161,8 +210,10 @@ class OutsideSearch {
 
   A a_{};
   Eigen::Vector3d c_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d to_round_ = Eigen::Matrix3d::Identity(), from_round_ = Eigen::Matrix3d::Identity();
   std::vector<double> height_;
-  double inner_ = 0;
+  double inner_ = 0, inner_squared_ = 0;  // the ellipsoid's radius in round coordinates
+  double ball_ = 0, ball_squared_ = 0;    // the inscribed ball's around c
   int k_ = 1;
   Index any_ = kInvalidIndex;
   std::vector<Index> cell_face_;

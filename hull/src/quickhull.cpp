@@ -5,11 +5,13 @@
 //     points, so output vertices are input points by construction;
 //   * faces carry a plane, centroid and area (Newell's method) and an
 //     intrusive singly-linked conflict list (conflict_next_ per point);
-//   * faces and edges are never freed during a build: removed faces are
-//     marked deleted and the structure is compacted once at the end.
-// Faces are processed in creation order (a cursor over the face array): every
-// face that can ever hold conflict points is created after the cursor, so one
-// pass over the array visits them all.
+//   * removed faces are marked deleted and stay in place; when the face
+//     array has doubled, the live faces and edges move down in order
+//     (compact_working), and the end compacts the rest in the same walk
+//     that checks the solid (survey).
+// Faces are processed in creation order (a cursor over the face array, which
+// the moves keep): every face that can ever hold conflict points is created
+// after the cursor, so one pass over the array visits them all.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +20,7 @@
 #include <hedra/hull/quickhull.hpp>
 #include <limits>
 
+#include "mesh_checks.hpp"
 #include "outside_search.hpp"
 
 namespace hedra::hull {
@@ -110,6 +113,8 @@ struct QuickhullBuilder::Impl {
   };
   std::vector<Frame> stack;
   double eps = 0;
+  std::size_t compacted_size = 0;                   // the face count after the last compact_working
+  std::vector<Index> face_renumber, edge_renumber;  // compact_working's maps
 
   // ---- face helpers -----------------------------------------------------
   void update_face(Index f) {
@@ -704,6 +709,7 @@ struct QuickhullBuilder::Impl {
     }
   };
   detail::OutsideSearch<WorkFaces> outside_search;
+  std::vector<Vec3> hull_vertices;  // the current hull's vertices, for the search's map
 
   // Puts every point that is not a vertex and lies more than 6 eps in front
   // of a face of the current hull on the conflict list of the face it is
@@ -712,20 +718,30 @@ struct QuickhullBuilder::Impl {
     ++stamp;
     Vec3 c = Vec3::Zero();
     double count = 0;
+    hull_vertices.clear();
+    Index largest = kInvalidIndex;
     for (Index f = 0; f < faces.size(); ++f) {
       if (faces[f].mark != Mark::alive) continue;
       c += faces[f].centroid, count += 1;
+      if (largest == kInvalidIndex || faces[f].area > faces[largest].area) largest = f;
       Index e = faces[f].edge;
       std::size_t guard = 0;
       do {
+        if (point_stamp[edges[e].origin] != stamp) hull_vertices.push_back(pts[edges[e].origin]);
         point_stamp[edges[e].origin] = stamp;
         e = edges[e].next;
       } while (e != faces[f].edge && ++guard <= edges.size());
     }
-    if (count == 0 || !outside_search.prepare(WorkFaces{this}, c / count)) return 0;
+    if (count == 0) return 0;
+    c /= count;
     std::size_t reinserted = 0;
+    bool prepared = false;  // on the first point that is not a vertex (a sphere's are all vertices)
     for (Index i = 0; i < n; ++i) {
       if (point_stamp[i] == stamp) continue;  // a vertex
+      if (!prepared &&
+          !outside_search.prepare(WorkFaces{this}, c, detail::rounding_map(hull_vertices, c, faces[largest].normal)))
+        return 0;
+      prepared = true;
       const auto [face, d] = outside_search.farthest_face_in_front(pts[i]);
       // Within 6 eps counts as on the hull: a near-duplicate of a vertex
       // (dropped as an eye when within eps of it) can stand up to 5 eps in
@@ -736,53 +752,6 @@ struct QuickhullBuilder::Impl {
       ++reinserted;
     }
     return reinserted;
-  }
-
-  // O(E) check of the whole structure before it is compacted: every live
-  // face's cycle closes with >= 3 edges whose links agree, no edge is a loop,
-  // and V - E + F = 2 (which also rules out pinched, non-manifold vertices).
-  bool structure_is_sound() {
-    ++stamp;
-    std::size_t v = 0, h = 0, f_count = 0;
-    for (Index f = 0; f < faces.size(); ++f) {
-      if (faces[f].mark != Mark::alive) continue;
-      ++f_count;
-      Index e = faces[f].edge;
-      std::size_t n = 0;
-      do {
-        const WorkEdge& w = edges[e];
-        if (w.face != f || edges[w.next].prev != e || edges[w.twin].twin != e || w.twin == e ||
-            faces[edges[w.twin].face].mark != Mark::alive || edges[w.next].origin != edges[w.twin].origin ||
-            w.origin == edges[w.twin].origin)
-          return false;
-        if (point_stamp[w.origin] != stamp) point_stamp[w.origin] = stamp, ++v;
-        e = w.next;
-        if (++n > edges.size()) return false;
-      } while (e != faces[f].edge);
-      if (n < 3) return false;
-      h += n;
-    }
-    return h % 2 == 0 &&
-           static_cast<long long>(v) - static_cast<long long>(h / 2) + static_cast<long long>(f_count) == 2;
-  }
-
-  // O(E) check of what merging can get wrong: every face planar within tol,
-  // every edge convex within tol (the vertices next to it in the neighbouring
-  // face are behind the face's plane).
-  bool faces_are_sound(double tol) const {
-    for (Index f = 0; f < faces.size(); ++f) {
-      const WorkFace& face = faces[f];
-      if (face.mark != Mark::alive) continue;
-      Index e = face.edge;
-      std::size_t guard = 0;
-      do {
-        if (std::abs(face.distance(pts[edges[e].origin])) > tol) return false;
-        const Index t = edges[e].twin;
-        if (face.distance(pts[edges[edges[edges[t].next].next].origin]) > tol) return false;
-        e = edges[e].next;
-      } while (e != face.edge && ++guard <= edges.size());
-    }
-    return true;
   }
 
   // ---- initial simplex ----------------------------------------------------
@@ -854,6 +823,7 @@ struct QuickhullBuilder::Impl {
   void add_tetrahedron(Simplex s, std::size_t n) {
     edges.clear();
     faces.clear();
+    compacted_size = 0;
     collapsed = false;
     conflict_next.assign(n, kInvalidIndex);
     point_stamp.assign(n, 0);
@@ -925,6 +895,7 @@ struct QuickhullBuilder::Impl {
         ++cursor;
         continue;
       }
+      if (faces.size() >= 2 * compacted_size + 4096) cursor = compact_working(cursor);
       if (r.iterations >= cap) {
         r.status = QuickhullStatus::iteration_limit;
         r.error = "iteration cap of " + std::to_string(cap) + " reached";
@@ -937,6 +908,59 @@ struct QuickhullBuilder::Impl {
       if (near_vertex_of(cursor, eye)) continue;
       add_eye(eye, cursor);
     }
+  }
+
+  // Removed faces and edges stay in the arrays during a build (the cursor
+  // walks faces in creation order). When the face array has doubled since
+  // the last time, the live faces and edges move down, in order, and every
+  // link is renumbered: memory stays within a few times the live hull's, and
+  // the walks over faces meet fewer dead ones. Order is kept, so the build
+  // makes the same decisions. Returns the cursor's new index. Live edges are
+  // the cycles of live faces; if a link of one leads to a dead element, the
+  // structure is left as it is (the end checks will tell).
+  Index compact_working(Index cursor) {
+    compacted_size = faces.size();
+    face_renumber.assign(faces.size(), kInvalidIndex);
+    edge_renumber.assign(edges.size(), kInvalidIndex);
+    Index nf = 0, ne = 0;
+    for (Index f = 0; f < faces.size(); ++f) {
+      if (faces[f].mark != Mark::alive) continue;
+      face_renumber[f] = nf++;
+      Index e = faces[f].edge;
+      std::size_t guard = 0;
+      do {
+        edge_renumber[e] = 0;  // live; numbered below, in index order
+        e = edges[e].next;
+      } while (e != faces[f].edge && ++guard <= edges.size());
+    }
+    for (Index e = 0; e < edges.size(); ++e)
+      if (edge_renumber[e] != kInvalidIndex) edge_renumber[e] = ne++;
+    for (Index e = 0; e < edges.size(); ++e) {
+      if (edge_renumber[e] == kInvalidIndex) continue;
+      const WorkEdge& w = edges[e];
+      if (edge_renumber[w.twin] == kInvalidIndex || edge_renumber[w.next] == kInvalidIndex ||
+          edge_renumber[w.prev] == kInvalidIndex || face_renumber[w.face] == kInvalidIndex)
+        return cursor;
+    }
+    // In place: an element's new index is never above its old one.
+    for (Index e = 0; e < edges.size(); ++e) {
+      if (edge_renumber[e] == kInvalidIndex) continue;
+      WorkEdge w = edges[e];
+      w.twin = edge_renumber[w.twin], w.next = edge_renumber[w.next], w.prev = edge_renumber[w.prev];
+      w.face = face_renumber[w.face];
+      edges[edge_renumber[e]] = w;
+    }
+    for (Index f = 0; f < faces.size(); ++f) {
+      if (face_renumber[f] == kInvalidIndex) continue;
+      WorkFace face = faces[f];
+      face.edge = edge_renumber[face.edge];
+      faces[face_renumber[f]] = face;
+    }
+    const Index moved = face_renumber[cursor];
+    faces.resize(nf);
+    edges.resize(ne);
+    compacted_size = nf;
+    return moved;
   }
 
   // Unlinks the farthest conflict point of face f (the eye) and returns it,
@@ -986,7 +1010,10 @@ struct QuickhullBuilder::Impl {
     }
     merged = false;
     add_point(eye);
-    if (!collapsed && !new_faces_sound(merged)) collapsed = true;
+    // Without a merge the cone is sound by construction (a simple horizon,
+    // links set pairwise): only merges need the check.
+    HEDRA_ASSERT(collapsed || merged || new_faces_sound(false));
+    if (!collapsed && merged && !new_faces_sound(true)) collapsed = true;
 #ifdef HEDRA_QUICKHULL_DEBUG
     // Debugging aid: the full O(E) check after every iteration, reporting
     // the first iteration that leaves the structure inconsistent.
@@ -999,26 +1026,87 @@ struct QuickhullBuilder::Impl {
   }
 
   // ---- end passes ---------------------------------------------------------
-  // Sets topology_failure unless the finished structure is a sound solid:
-  // at least four faces, consistent links with V - E + F = 2, and faces
-  // planar and edges convex within 4 eps.
-  void check_solid(QuickhullResult& r) {
-    if (r.status != QuickhullStatus::ok) return;
-    std::size_t alive = 0;
-    for (const WorkFace& face : faces) alive += face.mark == Mark::alive;
-    if (alive < 4 || collapsed) {
+  // One walk over the live faces numbers them, their edges and their
+  // vertices for compaction (faces and edges in face order, vertices in order
+  // of first use: their input indices go to r.input_index, point -> vertex to
+  // conflict_next) and, when `check`, looks at what a sound solid needs:
+  // every cycle closes with >= 3 edges whose links agree, no edge is a loop
+  // (then V - E + F = 2 rules out pinched, non-manifold vertices), every face
+  // is planar and every edge convex within 4 eps (the vertices next to it in
+  // the neighbouring face are behind the face's plane). Links are checked
+  // before the geometry that follows them; after the first broken link only
+  // the numbering goes on.
+  struct Survey {
+    std::size_t alive = 0, half_edges = 0;
+    bool links_sound = true, faces_sound = true;
+  };
+  bool links_sound_at(Index f, Index e) const {
+    const WorkEdge& w = edges[e];
+    return w.face == f && edges[w.next].prev == e && edges[w.twin].twin == e && w.twin != e &&
+           faces[edges[w.twin].face].mark == Mark::alive && edges[w.next].origin == edges[w.twin].origin &&
+           w.origin != edges[w.twin].origin;
+  }
+  bool face_sound_at(const WorkFace& face, Index e, double tol) const {
+    if (std::abs(face.distance(pts[edges[e].origin])) > tol) return false;
+    const Index t = edges[e].twin;
+    return face.distance(pts[edges[edges[edges[t].next].next].origin]) <= tol;
+  }
+  Survey survey(bool check, std::vector<Index>& face_map, std::vector<Index>& edge_map, QuickhullResult& r) {
+    Survey s;
+    ++stamp;
+    face_map.assign(faces.size(), kInvalidIndex);
+    edge_map.assign(edges.size(), kInvalidIndex);
+    Index ne = 0;
+    for (Index f = 0; f < faces.size(); ++f) {
+      if (faces[f].mark != Mark::alive) continue;
+      face_map[f] = static_cast<Index>(s.alive++);
+      Index e = faces[f].edge;
+      std::size_t n = 0, length = 0;
+      do {
+        ++length;
+        if (check && s.links_sound) {
+          s.links_sound = links_sound_at(f, e);
+          if (s.links_sound && s.faces_sound) s.faces_sound = face_sound_at(faces[f], e, 4 * eps);
+        }
+        edge_map[e] = ne++;
+        const Index p = edges[e].origin;
+        if (point_stamp[p] != stamp) {
+          point_stamp[p] = stamp;
+          conflict_next[p] = static_cast<Index>(r.input_index.size());  // reuse as point -> vertex
+          r.input_index.push_back(p);
+        }
+        e = edges[e].next;
+      } while (e != faces[f].edge && ++n <= edges.size());
+      s.links_sound = s.links_sound && e == faces[f].edge && length >= 3;
+      s.half_edges += length;
+    }
+    return s;
+  }
+
+  // Sets topology_failure unless the finished structure is a sound solid
+  // (see survey), in the order: too few faces, broken links (the structure
+  // is then abandoned: collapsed), warped faces. Returns false when there is
+  // nothing to compact.
+  bool check_solid(bool check, const Survey& s, QuickhullResult& r) {
+    if (!check) return true;
+    const long long euler = static_cast<long long>(r.input_index.size()) - static_cast<long long>(s.half_edges / 2) +
+                            static_cast<long long>(s.alive);
+    if (s.alive < 4) {
       // A slab only a few eps thick can merge away into nothing: not a solid
       // at this tolerance (the retry's larger eps sees it as flat).
       r.status = QuickhullStatus::topology_failure;
       r.error = "solid collapsed while merging at tolerance " + std::to_string(eps);
-    } else if (!structure_is_sound()) {
+    } else if (!s.links_sound || s.half_edges % 2 != 0 || euler != 2) {
       r.status = QuickhullStatus::topology_failure;
       r.error = "inconsistent structure after merging at tolerance " + std::to_string(eps);
+      r.input_index.clear();
       collapsed = true;
-    } else if (!faces_are_sound(4 * eps)) {
+      return false;
+    } else if (!s.faces_sound) {
       r.status = QuickhullStatus::topology_failure;
       r.error = "faces warped beyond the tolerance " + std::to_string(eps);
     }
+    return true;
   }
 
   QuickhullResult build(const Eigen::Vector3d* input, std::size_t n, const QuickhullOptions& options);
@@ -1040,20 +1128,19 @@ QuickhullResult QuickhullBuilder::Impl::build(const Eigen::Vector3d* input, std:
     r.error = "too many points (" + std::to_string(n) + ")";
     return r;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!input[i].allFinite()) {
+  // Recentre on the bounding-box centre; derive the tolerance from the extent.
+  // One pass checks the points are finite and finds the bounding box and the
+  // points extreme along each axis (the initial simplex starts from those;
+  // recentring keeps them extreme).
+  Vec3 lo = input[0], hi = input[0];
+  for (int axis = 0; axis < 3; ++axis) extreme[2 * axis] = extreme[2 * axis + 1] = 0;
+  for (Index i = 0; i < n; ++i) {
+    const Vec3& p = input[i];
+    if (!p.allFinite()) {
       r.status = QuickhullStatus::non_finite_input;
       r.error = "point " + std::to_string(i) + " has a non-finite coordinate";
       return r;
     }
-  }
-  // Recentre on the bounding-box centre; derive the tolerance from the extent.
-  // One pass for the bounding box and the points extreme along each axis
-  // (the initial simplex starts from those; recentring keeps them extreme).
-  Vec3 lo = input[0], hi = input[0];
-  for (int axis = 0; axis < 3; ++axis) extreme[2 * axis] = extreme[2 * axis + 1] = 0;
-  for (Index i = 1; i < n; ++i) {
-    const Vec3& p = input[i];
     for (int axis = 0; axis < 3; ++axis) {
       if (p[axis] < lo[axis]) lo[axis] = p[axis], extreme[2 * axis] = i;
       if (p[axis] > hi[axis]) hi[axis] = p[axis], extreme[2 * axis + 1] = i;
@@ -1122,45 +1209,38 @@ void QuickhullBuilder::Impl::build_once(const Eigen::Vector3d* input, std::size_
   add_tetrahedron(simplex, n);
   assign_initial_conflicts(simplex, n);
   expand(n, options, r);
-  check_solid(r);
-  if (collapsed) return;  // nothing trustworthy to compact; the caller retries
+  if (collapsed) {  // nothing trustworthy to compact; the caller retries
+    if (r.status == QuickhullStatus::ok) {
+      r.status = QuickhullStatus::topology_failure;
+      r.error = "solid collapsed while merging at tolerance " + std::to_string(eps);
+    }
+    return;
+  }
   compact(input, r);
+  if (collapsed) return;
   r.mesh.set_tolerance(mesh_tolerance);
-  // The output must pass the validator (O(E) form) at its own tolerance; if
-  // rounding in ill-conditioned input defeated the checks above (three
+  // The output must pass the validator (O(E) form; its link checks were the
+  // survey's, on the working structure) at its own tolerance; if rounding in
+  // ill-conditioned input defeated the checks above (three
   // near-duplicates 2e-17 apart on a ray gave a sliver whose world-coordinate
   // plane came out wound against its polygon), the caller retries at a
   // larger eps.
-  if (r.status == QuickhullStatus::ok && !r.mesh.validate(mesh_tolerance, false).ok()) {
+  if (r.status == QuickhullStatus::ok && !detail::validate_rings_and_faces(r.mesh, mesh_tolerance).ok()) {
     r.status = QuickhullStatus::topology_failure;
     r.error = "output failed validation at tolerance " + std::to_string(eps);
   }
 }
 
 void QuickhullBuilder::Impl::compact(const Eigen::Vector3d* input, QuickhullResult& r) {
-  r.dimension = 3;
   HalfEdgeMesh& m = r.mesh;
-  // New face and edge indices, in face order; vertices in order of first use.
-  ++stamp;
-  std::vector<Index> face_map(faces.size(), kInvalidIndex);
-  std::vector<Index> edge_map(edges.size(), kInvalidIndex);
-  Index nf = 0, ne = 0;
-  for (Index f = 0; f < faces.size(); ++f) {
-    if (faces[f].mark != Mark::alive) continue;
-    face_map[f] = nf++;
-    Index e = faces[f].edge;
-    std::size_t guard = 0;
-    do {
-      edge_map[e] = ne++;
-      const Index p = edges[e].origin;
-      if (point_stamp[p] != stamp) {
-        point_stamp[p] = stamp;
-        conflict_next[p] = static_cast<Index>(r.input_index.size());  // reuse as point -> vertex
-        r.input_index.push_back(p);
-      }
-      e = edges[e].next;
-    } while (e != faces[f].edge && ++guard <= edges.size());
-  }
+  // New face and edge indices, in face order; vertices in order of first use;
+  // the checks of a finished build on the way.
+  std::vector<Index> face_map, edge_map;
+  const bool check = r.status == QuickhullStatus::ok;
+  const Survey s = survey(check, face_map, edge_map, r);
+  if (!check_solid(check, s, r)) return;
+  r.dimension = 3;
+  const Index nf = static_cast<Index>(s.alive), ne = static_cast<Index>(s.half_edges);
   m.vertices.resize(r.input_index.size());
   for (Index v = 0; v < r.input_index.size(); ++v) m.vertices[v] = {input[r.input_index[v]], kInvalidIndex};
   m.edges.resize(ne);
@@ -1271,8 +1351,19 @@ double max_outside_distance(const HalfEdgeMesh& mesh, const std::vector<Eigen::V
   Vec3 c = Vec3::Zero();
   for (const auto& v : mesh.vertices) c += v.position;
   c /= static_cast<double>(mesh.vertex_count());
+  std::vector<Vec3> positions;
+  positions.reserve(mesh.vertex_count());
+  for (const auto& v : mesh.vertices) positions.push_back(v.position);
+  Index largest = 0;
+  double largest_area = -1;
+  for (Index f = 0; f < mesh.face_count(); ++f) {
+    Vec3 newell = Vec3::Zero();
+    for (Index e : mesh.face_edges(f))
+      newell += (mesh.position(mesh.origin(e)) - c).cross(mesh.position(mesh.destination(e)) - c);
+    if (newell.norm() > largest_area) largest_area = newell.norm(), largest = f;
+  }
   detail::OutsideSearch<MeshFaces> search;
-  if (!search.prepare(MeshFaces{&mesh}, c)) {
+  if (!search.prepare(MeshFaces{&mesh}, c, detail::rounding_map(positions, c, mesh.plane(largest).normal))) {
     // Not a proper solid around its vertex average: check every plane.
     for (const auto& p : points)
       for (Index f = 0; f < mesh.face_count(); ++f) worst = std::max(worst, mesh.plane(f).signed_distance(p));

@@ -4,6 +4,13 @@
 //   sphere/N    on the unit sphere (every point is a vertex), N = 1e4, 1e5
 //   cube_grid/N a 100 x 100 integer grid on each face of a cube, shared edge
 //               and corner points once (heavy coplanarity: 8 vertices)
+//   slab/N      a 2 x 2 square 1e-9 thick, turned off the axes (nearly flat:
+//               merging decides almost every face)
+//   cylinder/N  on the curved surface of a cylinder (radius 1, height 2):
+//               long thin, nearly coplanar faces along its length
+//   duplicates/N N/2 points on the unit sphere, each twice (the copy exact,
+//               or moved by 1e-15)
+//   far/N       uniform in the unit ball centred at (1e6, -1e6, 1e6)
 // Every set is generated once, with a fixed seed, outside the timed loops.
 //
 // qhull options. hedra returns merged convex polygon faces, so the
@@ -18,23 +25,59 @@
 //   vertices          hull vertices of this implementation
 //   vertex_sets_equal 1 when hedra's vertex set (input indices) equals
 //                     qhull's default-option vertex set, else 0
+//   bytes_per_point   peak heap bytes of one hedra build with a new builder
+//                     (working memory and result), per input point; counted
+//                     by this program's operator new
 // hedra's builder is reused across iterations (and warmed up once), as an
 // application building many hulls would. Run with repetitions and read
 // medians: tools/microbench/hull_table.py turns --benchmark_format=json output into a
-// table.
+// table. `hull_benchmark --memory` prints only the memory per point, for these
+// sets and a sphere of 1e6 points (too slow to time here).
 #include <benchmark/benchmark.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <hedra/hull/quickhull.hpp>
 #include <map>
+#include <new>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "qhull_reference.hpp"
+
+// Heap accounting: every operator new of this program goes through these
+// (8-byte size header), so the peak of one build can be read off.
+namespace heap {
+std::size_t current = 0, peak = 0;
+}  // namespace heap
+
+void* operator new(std::size_t size) {
+  void* block = std::malloc(size + 16);
+  if (block == nullptr) throw std::bad_alloc();
+  std::memcpy(block, &size, sizeof size);
+  heap::current += size;
+  heap::peak = std::max(heap::peak, heap::current);
+  return static_cast<char*>(block) + 16;
+}
+void operator delete(void* p) noexcept {
+  if (p == nullptr) return;
+  char* block = static_cast<char*>(p) - 16;
+  std::size_t size = 0;
+  std::memcpy(&size, block, sizeof size);
+  heap::current -= size;
+  std::free(block);
+}
+void* operator new[](std::size_t size) { return operator new(size); }
+void operator delete[](void* p) noexcept { operator delete(p); }
+void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
+void operator delete[](void* p, std::size_t) noexcept { operator delete(p); }
 
 namespace {
 
@@ -69,6 +112,11 @@ Points sphere_surface(std::size_t n, std::uint64_t seed) {
   return p;
 }
 
+// Fisher-Yates with the engine's raw bits (standard-fixed, like uniform()).
+void shuffle(Points& p, std::mt19937_64& engine) {
+  for (std::size_t i = p.size(); i > 1; --i) std::swap(p[i - 1], p[engine() % i]);
+}
+
 // The surface of the cube [-(k-1), k-1]^3 sampled at every second integer:
 // k x k points per face, points on shared edges and corners once.
 Points cube_grid(int k, std::uint64_t seed) {
@@ -82,7 +130,51 @@ Points cube_grid(int k, std::uint64_t seed) {
     }
   }
   std::mt19937_64 engine(seed);  // shuffled: no help from a sorted order
-  for (std::size_t i = p.size(); i > 1; --i) std::swap(p[i - 1], p[engine() % i]);
+  shuffle(p, engine);
+  return p;
+}
+
+// The curved surface of the cylinder x^2 + y^2 = 1, |z| <= 1.
+Points cylinder_surface(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 engine(seed);
+  Points p;
+  p.reserve(n);
+  while (p.size() < n) {
+    const double a = uniform(engine, 0, 6.283185307179586), z = uniform(engine, -1, 1);
+    p.emplace_back(std::cos(a), std::sin(a), z);
+  }
+  return p;
+}
+
+// A 2 x 2 x 1e-9 slab, turned by a fixed rotation so no face is axis-aligned.
+Points thin_slab(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 engine(seed);
+  const Eigen::Matrix3d turn =
+      (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(1.1, Eigen::Vector3d::UnitZ()))
+          .toRotationMatrix();
+  Points p;
+  p.reserve(n);
+  while (p.size() < n)
+    p.push_back(turn * Eigen::Vector3d(uniform(engine, -1, 1), uniform(engine, -1, 1), uniform(engine, -5e-10, 5e-10)));
+  return p;
+}
+
+// n/2 points on the unit sphere, each twice: the copy exact or moved by
+// 1e-15 (below the tolerance), in shuffled order.
+Points duplicated_sphere(std::size_t n, std::uint64_t seed) {
+  Points p = sphere_surface(n / 2, seed);
+  std::mt19937_64 engine(seed + 1);
+  for (std::size_t i = 0, half = p.size(); i < half; ++i)
+    p.push_back(engine() % 2 ? p[i] : Eigen::Vector3d(p[i] + Eigen::Vector3d(1e-15, -1e-15, 0.5e-15)));
+  shuffle(p, engine);
+  return p;
+}
+
+// The unit ball, moved 1e6 away along each axis.
+Points far_ball(std::size_t n, std::uint64_t seed) {
+  Points p = uniform_ball(n, seed);
+  for (auto& q : p) q += Eigen::Vector3d(1e6, -1e6, 1e6);
   return p;
 }
 
@@ -99,6 +191,12 @@ const std::vector<PointSet>& point_sets() {
       {"sphere/10000", [] { return sphere_surface(10000, 4); }},
       {"sphere/100000", [] { return sphere_surface(100000, 5); }},
       {"cube_grid/100x100", [] { return cube_grid(100, 6); }},
+      {"slab/10000", [] { return thin_slab(10000, 7); }},
+      {"slab/100000", [] { return thin_slab(100000, 8); }},
+      {"cylinder/10000", [] { return cylinder_surface(10000, 9); }},
+      {"cylinder/100000", [] { return cylinder_surface(100000, 10); }},
+      {"duplicates/100000", [] { return duplicated_sphere(100000, 11); }},
+      {"far/100000", [] { return far_ball(100000, 12); }},
   };
   return sets;
 }
@@ -109,7 +207,20 @@ struct Prepared {
   std::size_t hedra_vertices = 0;
   std::size_t qhull_vertices = 0;
   bool vertex_sets_equal = false;
+  double bytes_per_point = 0;
 };
+
+// Peak heap bytes per input point of one build with a new builder.
+double build_bytes_per_point(const Points& points) {
+  const std::size_t before = heap::current;
+  heap::peak = before;
+  {
+    hedra::hull::QuickhullBuilder builder;
+    const hedra::hull::QuickhullResult r = builder.build(points);
+    benchmark::DoNotOptimize(r.mesh.vertex_count());
+  }
+  return static_cast<double>(heap::peak - before) / static_cast<double>(points.size());
+}
 
 const Prepared& prepared(const PointSet& set) {
   static std::map<std::string, Prepared> cache;
@@ -117,6 +228,7 @@ const Prepared& prepared(const PointSet& set) {
   if (it != cache.end()) return it->second;
   Prepared p;
   p.points = set.make();
+  p.bytes_per_point = build_bytes_per_point(p.points);
   const hedra::hull::QuickhullResult h = hedra::hull::build_hull(p.points);
   std::vector<int> hedra_set;
   for (hedra::hull::Index i : h.input_index) hedra_set.push_back(static_cast<int>(i));
@@ -136,6 +248,7 @@ void set_counters(benchmark::State& state, const Prepared& p, std::size_t vertic
   state.counters["points"] = static_cast<double>(p.points.size());
   state.counters["vertices"] = static_cast<double>(vertices);
   state.counters["vertex_sets_equal"] = p.vertex_sets_equal ? 1.0 : 0.0;
+  state.counters["bytes_per_point"] = p.bytes_per_point;
 }
 
 void bench_hedra(benchmark::State& state, const PointSet* set) {
@@ -174,6 +287,26 @@ const bool registered = [] {
   return true;
 }();
 
+// --memory: the peak heap bytes per point of one build, per set.
+int print_memory() {
+  std::vector<PointSet> sets = point_sets();
+  sets.push_back({"sphere/1000000", [] { return sphere_surface(1000000, 13); }});
+  for (const PointSet& set : sets) {
+    const Points points = set.make();
+    std::printf("%-20s %9zu points  %7.0f bytes per point\n", set.name.c_str(), points.size(),
+                build_bytes_per_point(points));
+  }
+  return 0;
+}
+
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--memory") == 0) return print_memory();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

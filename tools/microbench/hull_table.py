@@ -6,8 +6,9 @@
 
 One row per point set: points, hedra ms, qhull ms (default options: merged
 facets, comparable to hedra's faces), hedra/qhull ratio, qhull "Qt" ms, and
-whether hedra's vertex set equals qhull's (a counter the benchmark computes
-once per set, outside timing). Times are medians over repetitions (the
+whether hedra's vertex set equals qhull's, and hedra's peak heap bytes per
+input point in one build (counters the benchmark computes once per set,
+outside timing). Times are medians over repetitions (the
 benchmark's "median" aggregates; without them, the median of the individual
 runs). CPU time by default, which a machine shared with other jobs disturbs
 less than wall time; --real for wall time.
@@ -29,16 +30,16 @@ def to_ms(value, unit):
 
 
 def collect(benchmarks, time_key):
-    """{(set, implementation): {'ms': median, 'points': n, 'equal': 0/1}}"""
+    """{(set, implementation): {'ms': median, 'points': n, 'equal': 0/1, 'bytes': per point}}"""
     medians = {}
     runs = {}
     for b in benchmarks:
         if b.get("error_occurred"):
             key = parse_run_name(b.get("run_name", b["name"]))
-            medians[key] = {"ms": None, "points": b.get("points"), "equal": b.get("vertex_sets_equal"), "error": b.get("error_message", "error")}
+            medians[key] = {"ms": None, "points": b.get("points"), "equal": b.get("vertex_sets_equal"), "bytes": b.get("bytes_per_point"), "error": b.get("error_message", "error")}
             continue
         key = parse_run_name(b.get("run_name", b["name"]))
-        entry = {"ms": to_ms(b[time_key], b.get("time_unit", "ns")), "points": b.get("points"), "equal": b.get("vertex_sets_equal")}
+        entry = {"ms": to_ms(b[time_key], b.get("time_unit", "ns")), "points": b.get("points"), "equal": b.get("vertex_sets_equal"), "bytes": b.get("bytes_per_point")}
         if b.get("run_type") == "aggregate":
             if b.get("aggregate_name") == "median":
                 medians[key] = entry
@@ -62,8 +63,8 @@ def table(medians):
         if set_name not in sets:
             sets.append(set_name)
     lines = [
-        "| set | points | hedra ms | qhull ms | hedra/qhull | qhull Qt ms | vertex sets equal |",
-        "|---|---:|---:|---:|---:|---:|:---:|",
+        "| set | points | hedra ms | qhull ms | hedra/qhull | qhull Qt ms | vertex sets equal | hedra bytes/point |",
+        "|---|---:|---:|---:|---:|---:|:---:|---:|",
     ]
     for s in sets:
         hedra = medians.get((s, "hedra"), {})
@@ -71,10 +72,11 @@ def table(medians):
         qhull_qt = medians.get((s, "qhull_Qt"), {})
         points = next((e["points"] for e in (hedra, qhull, qhull_qt) if e.get("points") is not None), None)
         equal = next((e["equal"] for e in (hedra, qhull, qhull_qt) if e.get("equal") is not None), None)
+        per_point = next((e["bytes"] for e in (hedra, qhull, qhull_qt) if e.get("bytes") is not None), None)
         h, q = hedra.get("ms"), qhull.get("ms")
         ratio = f"{h / q:.2f}" if h is not None and q else "-"
         lines.append(
-            "| {} | {} | {} | {} | {} | {} | {} |".format(
+            "| {} | {} | {} | {} | {} | {} | {} | {} |".format(
                 s,
                 f"{int(points):,}" if points is not None else "-",
                 fmt_ms(h) if hedra else "-",
@@ -82,6 +84,7 @@ def table(medians):
                 ratio,
                 fmt_ms(qhull_qt.get("ms")) if qhull_qt else "-",
                 "-" if equal is None else ("yes" if equal >= 0.5 else "**no**"),
+                "-" if per_point is None else f"{per_point:,.0f}",
             )
         )
     return "\n".join(lines)
