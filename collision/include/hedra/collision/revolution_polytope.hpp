@@ -40,7 +40,7 @@ namespace hedra::collision {
 inline constexpr int kRevolutionPolytopeMaxVertices = 128;
 
 struct RevolutionPolytopeSettings {
-  int max_intervals = 4096;  // intervals of phi bounded, the cap reported as max_iterations
+  int max_intervals = 65536;  // intervals of phi bounded, the cap reported as max_iterations
 };
 
 namespace revolution_polytope_detail {
@@ -94,7 +94,7 @@ struct Problem {
   std::array<Eigen::Vector3d, kRevolutionPolytopeMaxVertices> q;
   std::array<double, kRevolutionPolytopeMaxVertices> qx{}, qy{}, psi{}, qr{};  // q . e1, q . e2, argmin, |q_perp|
   int nq = 0;
-  std::array<double, kMaxPoints> z{};            // s_i + q_j . k
+  std::array<double, kMaxPoints> z{};             // s_i + q_j . k
   std::array<std::uint16_t, kMaxPoints> order{};  // points by increasing z
   int points = 0;
   double rounding = 0.0;
@@ -145,8 +145,8 @@ inline ChainMinimum chain_minimum(const Problem& pr, const double* A) {
     if (value < best.value) best = {value, d, p0, p1, w};
   };
   consider(-pr.z[pr.order[0]], Eigen::Vector2d(0.0, -1.0), pr.order[0], pr.order[0], 0.0);
-  consider(pr.z[pr.order[pr.points - 1]], Eigen::Vector2d(0.0, 1.0), pr.order[pr.points - 1],
-           pr.order[pr.points - 1], 0.0);
+  consider(pr.z[pr.order[pr.points - 1]], Eigen::Vector2d(0.0, 1.0), pr.order[pr.points - 1], pr.order[pr.points - 1],
+           0.0);
   Eigen::Vector2d previous(0.0, -1.0);  // the normal before chain vertex i
   for (int i = 0; i < top; ++i) {
     const Eigen::Vector2d p = point(chain[i]);
@@ -165,7 +165,8 @@ inline ChainMinimum chain_minimum(const Problem& pr, const double* A) {
     const double pn = p.norm();
     if (pn > 0.0) {
       const Eigen::Vector2d w = -p / pn;
-      if (w.x() >= 0.0 && cross2(previous, w) >= 0.0 && cross2(w, next) >= 0.0) consider(-pn, w, chain[i], chain[i], 0.0);
+      if (w.x() >= 0.0 && cross2(previous, w) >= 0.0 && cross2(w, next) >= 0.0)
+        consider(-pn, w, chain[i], chain[i], 0.0);
     }
     previous = next;
   }
@@ -305,7 +306,8 @@ inline Bracket branch_and_bound(Search& search, int max_intervals) {
     if (out.intervals + 2 > max_intervals || top + 2 > static_cast<int>(stack.size()) ||
         !(iv.phi1 - iv.phi0 > 8.0 * eps) || std::isnan(iv.bound)) {
       out.capped = out.capped || out.intervals + 2 > max_intervals || std::isnan(iv.bound);
-      out.certified = std::min(out.certified, std::isnan(iv.bound) ? -std::numeric_limits<double>::infinity() : iv.bound);
+      out.certified =
+          std::min(out.certified, std::isnan(iv.bound) ? -std::numeric_limits<double>::infinity() : iv.bound);
       continue;
     }
     const double mid = 0.5 * (iv.phi0 + iv.phi1);
