@@ -105,6 +105,13 @@ TEST(PegInHole, SmallPegsSeeARingOfNearlyEqualDepthsAndAreStillExact) {
       EXPECT_LE(r.error_bound, 1e-10 * std::max(std::abs(r.distance), size)) << i;
       EXPECT_NEAR(r.normal.norm(), 1.0, 1e-12) << i;
       EXPECT_LT((r.point_b - r.point_a - r.distance * r.normal).norm(), 1e-12 * size) << i;
+      // Witnesses on both support planes.
+      const Shape& a = swap ? p.peg : p.hole;
+      const Shape& b = swap ? p.hole : p.peg;
+      const Pose& pa = swap ? p.peg_pose : p.hole_pose;
+      const Pose& pb = swap ? p.hole_pose : p.peg_pose;
+      EXPECT_NEAR(r.normal.dot(r.point_a), support_value(a, pa, r.normal), 1e-9 * size) << i << " swap " << swap;
+      EXPECT_NEAR(-r.normal.dot(r.point_b), support_value(b, pb, -r.normal), 1e-9 * size) << i << " swap " << swap;
       ++checked;
     }
   }
