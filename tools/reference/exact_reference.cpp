@@ -658,7 +658,7 @@ SupportHull support_hull_bracket(const Core& a, const Core& b, double target, st
 }
 
 // A curved core (cylinder, cone) against a core of finitely many points
-// (box, hull, segment, point): a peg in a hole. With the curved core's
+// (box, hull, segment): a peg in a hole. With the curved core's
 // centre c and axis k (as h_D sees it: k = a for A, -b for B) and the other
 // core's points moved to q_j (c - b_j for a curved A, a_j - c for a curved
 // B), h_D(n) = f(k . n) + max_j q_j . n, f the curved core's profile (the
@@ -746,10 +746,11 @@ double meridian_minimum(const MeridianPoints& m, double phi, double shift, Eigen
   return best;
 }
 
-bool azimuth_bracket(const Core& a, const Core& b, double target, double& lower, double& upper) {
+bool azimuth_bracket(const Core& a, const Core& b, double target, int budget, double& lower, double& upper) {
   if (a.curved() == b.curved()) return false;
   const Core& curved = a.curved() ? a : b;
   const Core& other = a.curved() ? b : a;
+  if (other.points.size() < 2) return false;  // a point: the meridian section is exact
   MeridianPoints m;
   m.k = a.curved() ? Vec(curved.rotation.col(2)) : Vec(-curved.rotation.col(2));
   m.e1 = any_perpendicular(m.k);
@@ -781,14 +782,14 @@ bool azimuth_bracket(const Core& a, const Core& b, double target, double& lower,
   };
   using Interval = std::pair<double, std::pair<double, double>>;  // (bound, (centre, half width))
   std::priority_queue<Interval, std::vector<Interval>, std::greater<Interval>> open;
-  constexpr int kStart = 256, kBudget = 400000;
+  constexpr int kStart = 256;
   for (int i = 0; i < kStart; ++i) {
     const double w = kPi / kStart, c = -kPi + (2 * i + 1) * w;
     value_at(c);
     open.push({bound_at(c, w), {c, w}});
   }
   int evaluations = kStart;
-  while (!open.empty() && open.top().first < best - target && evaluations < kBudget) {
+  while (!open.empty() && open.top().first < best - target && evaluations < budget) {
     const auto [c, w] = open.top().second;
     open.pop();
     for (const double side : {-0.5, 0.5}) {
@@ -862,14 +863,20 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
   // support points, merged the same way. It fails at once (one qhull of
   // 1 028 points) on separated pairs, which the polygons resolve.
   SupportHull cutting;
+  const double target = settings.target_width * size;
   double azimuth_lower = 0.0, azimuth_upper = 0.0;
-  if (curved && azimuth_bracket(core_a, core_b, settings.target_width * size, azimuth_lower, azimuth_upper)) {
+  const bool azimuth =
+      curved && azimuth_bracket(core_a, core_b, target, settings.max_azimuth_evaluations, azimuth_lower, azimuth_upper);
+  if (azimuth) {
     meridian_lower = azimuth_lower - radius;
     meridian_upper = azimuth_upper - radius;
-  } else if (curved && meridian_bracket(core_a, core_b, meridian_lower, meridian_upper)) {
-    meridian_lower -= radius;
-    meridian_upper -= radius;
-    if (meridian_upper - meridian_lower > settings.target_width * size) {
+  }
+  double parallel_lower = 0.0, parallel_upper = 0.0;
+  if (curved && !(azimuth && meridian_upper - meridian_lower <= target) &&
+      meridian_bracket(core_a, core_b, parallel_lower, parallel_upper)) {
+    meridian_lower = std::max(meridian_lower, parallel_lower - radius);
+    meridian_upper = std::min(meridian_upper, parallel_upper - radius);
+    if (meridian_upper - meridian_lower > target) {
       cutting = support_hull_bracket(core_a, core_b, settings.target_width * size, settings.max_support_points);
       if (cutting.ok) {
         out.support_points = cutting.points;
