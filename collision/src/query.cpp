@@ -8,6 +8,7 @@
 #include <hedra/collision/minkowski.hpp>
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/revolution.hpp>
+#include <hedra/collision/revolution_polytope.hpp>
 #include <hedra/collision/tilted_revolution.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
@@ -173,7 +174,8 @@ Status to_status(EpaStatus s) {
 // GJK runs first. Cores it certifies apart beyond the touching band answer
 // with GJK (gjk_answer). Otherwise a signed step answers, the first that
 // applies: exact_parallel_revolution, nearly_coaxial_branch_and_bound, epa
-// (and, when EPA fails on overlapping cores, bracket_when_epa_fails). The
+// (and, when EPA fails on overlapping cores, bracket_when_epa_fails, then
+// polytope_and_revolution_when_epa_fails). The
 // rule (choose) then keeps GJK's own bracket where EPA stalled on a narrower
 // one (gjk_bracket_when_epa_stalls), the signed answer where the cores may
 // overlap or where it is certified better and agrees with GJK, GJK's answer
@@ -253,7 +255,20 @@ class PenetrationSteps {
     EpaResult e = epa();
     if (overlap_possible && e.status != EpaStatus::ok && e.status != EpaStatus::degenerate)
       e = bracket_when_epa_fails(e);
+    if (overlap_possible && e.status != EpaStatus::ok && e.status != EpaStatus::degenerate)
+      e = polytope_and_revolution_when_epa_fails(e);
     return signed_answer_of(e);
+  }
+
+  // A polytope core and a curved core of revolution (a peg in a hole) that
+  // EPA could not certify: the branch and bound over the azimuth
+  // (revolution_polytope.hpp), hinted with EPA's normal; its answer when
+  // certified or tighter than `e`.
+  EpaResult polytope_and_revolution_when_epa_fails(const EpaResult& e) const {
+    EpaResult q;
+    if (!revolution_polytope_penetration(p_.core_a, p_.core_b, p_.relative, p_.scale, &e.normal, 1, settings_.epa, q))
+      return e;
+    return q.status == EpaStatus::ok || q.error_bound < e.error_bound ? q : e;
   }
 
   // Cores of revolution with parallel axes: the exact meridian-section

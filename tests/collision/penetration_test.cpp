@@ -814,13 +814,24 @@ TEST(PenetrationStatus, CapsInvalidInputAndNoNan) {
   const auto h = make_hull(random_points(rng, 64, {1.0, 1.0, 1.0}));
   PenetrationSettings capped;
   capped.epa.max_iterations = 1;
-  const PenetrationResult r = penetration(Polyhedron{h, 0.0}, Pose::identity(), Cylinder{0.5, 0.5, 0.0},
+  // Two polytopes: no certified path besides EPA.
+  const PenetrationResult r = penetration(Polyhedron{h, 0.0}, Pose::identity(), Box{{0.5, 0.4, 0.3}, 0.0},
                                           Pose::from_translation({0.3, 0.1, 0.2}), nullptr, capped);
   EXPECT_EQ(r.status, Status::max_iterations);  // never reported as ok
   EXPECT_TRUE(std::isfinite(r.distance) && r.normal.allFinite());
   EXPECT_NEAR(r.normal.norm(), 1.0, 1e-12);
   EXPECT_GT(r.error_bound, 0.0);
   EXPECT_LT((r.point_b - r.point_a - r.distance * r.normal).norm(), 1e-12);
+
+  // A polytope against a cylinder: the branch and bound over the azimuth
+  // (revolution_polytope.hpp) answers where the capped EPA could not,
+  // certified, as the uncapped query does.
+  const Pose at{Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.3, 0.1, 0.2)};
+  const PenetrationResult c =
+      penetration(Polyhedron{h, 0.0}, Pose::identity(), Cylinder{0.5, 0.5, 0.0}, at, nullptr, capped);
+  const PenetrationResult full = penetration(Polyhedron{h, 0.0}, Pose::identity(), Cylinder{0.5, 0.5, 0.0}, at);
+  EXPECT_EQ(c.status, Status::ok);
+  EXPECT_NEAR(c.distance, full.distance, c.error_bound + full.error_bound + 1e-14);
 
   Pose nan_pose = Pose::identity();
   nan_pose.translation.x() = std::nan("");

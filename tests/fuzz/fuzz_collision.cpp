@@ -6,7 +6,9 @@
 // of up to 12 points, each with a margin), their sizes (sometimes negative,
 // NaN or infinite, spanning 1e-4 .. 1e4), and two poses (quaternions that
 // may be zero or NaN, translations up to 1e6; sometimes B's rotation A's
-// turned by 1e-1 .. 1e-15 rad, a nearly coaxial pair). Checked, for every
+// turned by 1e-1 .. 1e-15 rad, a nearly coaxial pair; from a byte after
+// everything else, B near A's axis and tilted 1e-2 .. 1e-10 rad off it, a
+// peg in a hole). Checked, for every
 // input and both orders (A, B) and (B, A):
 //   - every output field is finite, whatever the status;
 //   - invalid shapes or poses, or a pair below min_pair_extent, give
@@ -395,6 +397,24 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // The continuous queries' motions: after every byte above.
   const double larger = std::max(bounding_radius(a), bounding_radius(b));
   const Motion motion = make_motion(in, pose_a, pose_b, larger);
+  // Pegs in holes (revolution_polytope.hpp's branch and bound: a small core
+  // deep inside a cylinder or cone, near its axis): a byte after all of the
+  // above may put B's centre 1e-3 .. 1e-9 of the larger size off A's axis,
+  // anywhere along it within A's size, and B's axis 1e-2 .. 1e-10 rad off
+  // A's (one value of its low four bits, which no committed input had
+  // there: they decode as before; the motion keeps its values).
+  const std::uint8_t peg = in.byte();
+  if (peg % 16 == 6 && pose_a.finite() && std::isfinite(larger)) {
+    const double offset = std::pow(10.0, -3.0 - static_cast<double>(in.byte() % 7)) * larger;
+    const double tilt = std::pow(10.0, -2.0 - static_cast<double>(in.byte() % 9));
+    const double side = in.finite_double(4.0), turn = in.finite_double(4.0);
+    const double along = in.finite_double(1.0) * bounding_radius(a);
+    const Vec local{offset * std::cos(side), offset * std::sin(side), along};
+    pose_b.translation = pose_a.translation + pose_a.rotation * local;
+    pose_b.rotation =
+        pose_a.rotation * Eigen::AngleAxisd(tilt, Vec(std::cos(turn), std::sin(turn), 0.0)).toRotationMatrix();
+    if (peg & 16) pose_b.rotation = pose_b.rotation * Eigen::AngleAxisd(M_PI, Vec::UnitX()).toRotationMatrix();
+  }
   if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
     describe("a", a, pose_a);
     describe("b", b, pose_b);

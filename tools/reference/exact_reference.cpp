@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <qhull_reference.hpp>
+#include <queue>
 #include <utility>
 #include <variant>
 
@@ -656,6 +657,155 @@ SupportHull support_hull_bracket(const Core& a, const Core& b, double target, st
   return out;
 }
 
+// A curved core (cylinder, cone) against a core of finitely many points
+// (box, hull, segment): a peg in a hole. With the curved core's
+// centre c and axis k (as h_D sees it: k = a for A, -b for B) and the other
+// core's points moved to q_j (c - b_j for a curved A, a_j - c for a curved
+// B), h_D(n) = f(k . n) + max_j q_j . n, f the curved core's profile (the
+// support function of its meridian section: (r, +-h) for a cylinder, (0, h)
+// and (r, -h) for a cone). In the meridian half-plane of azimuth phi, n =
+// cos(theta) k + sin(theta) u(phi), theta in [0, pi], h_D is the 2D support
+// function of the points (section radial + q_j . u(phi), section axial +
+// q_j . k) in the direction (sin theta, cos theta): its minimum G(phi) over
+// theta comes from their convex hull's right side (gift wrapping from the
+// lowest point, both poles, a vertex's own minimum where the origin is
+// outside). Each point's radial coordinate moves with phi at most at the
+// rate L = max_j |q_j perp|, and h_D grows with it (sin theta >= 0): over
+// [phi - w, phi + w], G is at least the minimum at phi with every point
+// lowered by L w (exact at the poles, where sin theta = 0); best first
+// over intervals of phi until every interval is within the target of the
+// best value found, or the budget (then the bracket is as wide as it is).
+// Upper bound of the depth: h_D (closed forms) at the best direction.
+// (hedra's revolution_polytope.hpp reduces the same way; this is a separate
+// implementation: hull by gift wrapping, a uniform Lipschitz lowering
+// instead of each sinusoid's minimum.) Returns false when the pair is not of
+// that kind.
+struct MeridianPoints {
+  Vec k, e1, e2;
+  std::vector<Vec> q;
+  std::vector<Eigen::Vector2d> section;  // (radial, axial) of the curved core's right half
+  double lipschitz = 0.0;
+};
+
+// min over theta of the 2D support function of the points at azimuth phi;
+// `direction` gets the minimiser (sin theta, cos theta).
+// With every point's radial coordinate lowered by `shift`.
+double meridian_minimum(const MeridianPoints& m, double phi, double shift, Eigen::Vector2d& direction) {
+  const Vec u = std::cos(phi) * m.e1 + std::sin(phi) * m.e2;
+  std::vector<Eigen::Vector2d> p;
+  for (const Vec& q : m.q)
+    for (const Eigen::Vector2d& s : m.section) p.emplace_back(s.x() + q.dot(u) - shift, s.y() + q.dot(m.k));
+  std::size_t low = 0, high = 0;
+  for (std::size_t i = 1; i < p.size(); ++i) {
+    if (p[i].y() < p[low].y() || (p[i].y() == p[low].y() && p[i].x() > p[low].x())) low = i;
+    if (p[i].y() > p[high].y()) high = i;
+  }
+  double best = -p[low].y();
+  direction = Eigen::Vector2d(0.0, -1.0);
+  if (p[high].y() < best) {
+    best = p[high].y();
+    direction = Eigen::Vector2d(0.0, 1.0);
+  }
+  const auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
+  Eigen::Vector2d normal_in(0.0, -1.0);
+  std::size_t at = low;
+  for (std::size_t step = 0; step <= p.size(); ++step) {
+    // The next vertex: every point on the left of at -> next (the farthest
+    // of collinear ones).
+    std::size_t next = at;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p[i] == p[at]) continue;
+      if (next == at) {
+        next = i;
+        continue;
+      }
+      const double c = cross(p[next] - p[at], p[i] - p[at]);
+      if (c < 0.0 || (c == 0.0 && (p[i] - p[at]).norm() > (p[next] - p[at]).norm())) next = i;
+    }
+    Eigen::Vector2d normal_out(0.0, 1.0);
+    const Eigen::Vector2d e = p[next] - p[at];
+    const bool climbs = next != at && e.y() >= 0.0 && p[at].y() < p[high].y();
+    if (climbs) normal_out = Eigen::Vector2d(e.y(), -e.x()) / e.norm();
+    const double pn = p[at].norm();
+    if (pn > 0.0) {  // the vertex's own minimum, where the origin is outside
+      const Eigen::Vector2d w = -p[at] / pn;
+      if (w.x() >= 0.0 && cross(normal_in, w) >= 0.0 && cross(w, normal_out) >= 0.0 && -pn < best) {
+        best = -pn;
+        direction = w;
+      }
+    }
+    if (!climbs) break;
+    const double value = normal_out.dot(p[at]);
+    if (value < best) {
+      best = value;
+      direction = normal_out;
+    }
+    normal_in = normal_out;
+    at = next;
+  }
+  return best;
+}
+
+bool azimuth_bracket(const Core& a, const Core& b, double target, int budget, double& lower, double& upper) {
+  if (a.curved() == b.curved()) return false;
+  const Core& curved = a.curved() ? a : b;
+  const Core& other = a.curved() ? b : a;
+  if (other.points.size() < 2) return false;  // a point: the meridian section is exact
+  MeridianPoints m;
+  m.k = a.curved() ? Vec(curved.rotation.col(2)) : Vec(-curved.rotation.col(2));
+  m.e1 = any_perpendicular(m.k);
+  m.e2 = m.k.cross(m.e1);
+  for (const Vec& x : other.points) {
+    m.q.push_back(a.curved() ? Vec(curved.translation - x) : Vec(x - curved.translation));
+    m.lipschitz = std::max(m.lipschitz, (m.q.back() - m.q.back().dot(m.k) * m.k).norm());
+  }
+  const double r = curved.core_radius, h = curved.half_length;
+  if (curved.kind == Core::Kind::cylinder)
+    m.section = {{r, h}, {r, -h}};
+  else
+    m.section = {{0.0, h}, {r, -h}};
+  double size = 0.0;
+  for (const Vec& q : m.q) size = std::max(size, q.norm());
+  const double rounding = 64 * kEps * (size + std::hypot(r, h));
+  double best = std::numeric_limits<double>::infinity();
+  const auto bound_at = [&](double phi, double w) {
+    Eigen::Vector2d d;
+    return meridian_minimum(m, phi, m.lipschitz * w, d) - rounding;
+  };
+  const auto value_at = [&](double phi) {
+    Eigen::Vector2d d;
+    meridian_minimum(m, phi, 0.0, d);
+    const Vec n = d.y() * m.k + d.x() * (std::cos(phi) * m.e1 + std::sin(phi) * m.e2);
+    const double h_d = a.support_value(n) + b.support_value(-n);  // closed forms
+    best = std::min(best, h_d);
+    return h_d;
+  };
+  using Interval = std::pair<double, std::pair<double, double>>;  // (bound, (centre, half width))
+  std::priority_queue<Interval, std::vector<Interval>, std::greater<Interval>> open;
+  constexpr int kStart = 256;
+  for (int i = 0; i < kStart; ++i) {
+    const double w = kPi / kStart, c = -kPi + (2 * i + 1) * w;
+    value_at(c);
+    open.push({bound_at(c, w), {c, w}});
+  }
+  int evaluations = kStart;
+  while (!open.empty() && open.top().first < best - target && evaluations < budget) {
+    const auto [c, w] = open.top().second;
+    open.pop();
+    for (const double side : {-0.5, 0.5}) {
+      const double cc = c + side * w;
+      value_at(cc);
+      open.push({bound_at(cc, 0.5 * w), {cc, 0.5 * w}});
+      ++evaluations;
+    }
+  }
+  if (!open.empty() && std::isnan(open.top().first)) return false;
+  // The depth lies in [least bound, best]; sd = -depth.
+  lower = -best;
+  upper = -std::min(open.top().first, best);
+  return std::isfinite(lower) && std::isfinite(upper);
+}
+
 bool finite_points(const std::vector<Vec>& points) {
   for (const Vec& p : points)
     if (!p.allFinite()) return false;
@@ -713,10 +863,20 @@ ExactResult exact_signed_distance(const Shape& a, const Pose& pose_a, const Shap
   // support points, merged the same way. It fails at once (one qhull of
   // 1 028 points) on separated pairs, which the polygons resolve.
   SupportHull cutting;
-  if (curved && meridian_bracket(core_a, core_b, meridian_lower, meridian_upper)) {
-    meridian_lower -= radius;
-    meridian_upper -= radius;
-    if (meridian_upper - meridian_lower > settings.target_width * size) {
+  const double target = settings.target_width * size;
+  double azimuth_lower = 0.0, azimuth_upper = 0.0;
+  const bool azimuth =
+      curved && azimuth_bracket(core_a, core_b, target, settings.max_azimuth_evaluations, azimuth_lower, azimuth_upper);
+  if (azimuth) {
+    meridian_lower = azimuth_lower - radius;
+    meridian_upper = azimuth_upper - radius;
+  }
+  double parallel_lower = 0.0, parallel_upper = 0.0;
+  if (curved && !(azimuth && meridian_upper - meridian_lower <= target) &&
+      meridian_bracket(core_a, core_b, parallel_lower, parallel_upper)) {
+    meridian_lower = std::max(meridian_lower, parallel_lower - radius);
+    meridian_upper = std::min(meridian_upper, parallel_upper - radius);
+    if (meridian_upper - meridian_lower > target) {
       cutting = support_hull_bracket(core_a, core_b, settings.target_width * size, settings.max_support_points);
       if (cutting.ok) {
         out.support_points = cutting.points;

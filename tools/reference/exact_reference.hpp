@@ -89,6 +89,16 @@
 // about 1/sqrt(theta) points: 2.6e-6 of the size at theta = 4e-6 with 8 000
 // (the meridian's 2 theta R is the tighter below about 1e-6).
 //
+// A curved core against a core of points (box, hull, segment): a
+// bracket over the azimuth phi of the curved core's meridian planes, where
+// h_D is the 2D support function of the section's points plus the other
+// core's, projected; its minimum over the polar angle is exact (gift
+// wrapping), and between azimuths every point moves at most L = max |q_perp|
+// per radian (best first over intervals of phi, a budget of
+// max_azimuth_evaluations). It resolves small pegs deep in a hole (a ring of nearly equal
+// depths, brackets up to 1e-2 of the size wide from the polygons alone) to
+// about 1e-12; merged with the polygons', which then stop after one pass.
+//
 // Uniqueness of the normal (polytope cores): separated by more than the
 // tolerance, the closest point v is unique and so is -v/|v|. Otherwise the
 // facets whose plane lies within the tolerance of the best one are the
@@ -123,6 +133,9 @@ struct ExactSettings {
   // Points of the cutting-plane hull (overlapping curved pairs whose
   // bracket is still wider than the target after the passes above).
   std::size_t max_support_points = 8000;
+  // Evaluations of the azimuth bracket (a curved core against a core of
+  // points), until its bracket is within the target.
+  int max_azimuth_evaluations = 40000;
   // Optional: the input points (local frame) of a Polyhedron shape a or b,
   // used instead of its quickhull vertices so that the reference does not
   // depend on hedra's hull builder either. Ignored for other shapes.
