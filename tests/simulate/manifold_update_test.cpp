@@ -88,31 +88,52 @@ TEST(ManifoldUpdate, PointByPointMergeLetsASlidingBoxEvictItsOwnPoints) {
   }
 }
 
+// A btCollisionWorld whose convex pairs go to hedra, and a rounded box: for
+// Bullet the hull of its core's corners with the margin, for hedra a Box
+// with that margin.
+struct HedraWorld {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher{&configuration};
+  HedraCollisionAlgorithm::CreateFunc create;
+  simulate::ShapeCache shapes;
+  btDbvtBroadphase broadphase;
+  btCollisionWorld world{&dispatcher, &broadphase, &configuration};
+  btConvexHullShape hull;
+  simulate::CachedShape rounded;
+
+  HedraWorld(ManifoldUpdate update, double core, double margin) {
+    create.update = update;
+    simulate::register_hedra(dispatcher, create, shapes);
+    for (int i = 0; i < 8; ++i)
+      hull.addPoint(btVector3(i & 1 ? core : -core, i & 2 ? core : -core, i & 4 ? core : -core));
+    hull.setMargin(margin);
+    rounded.shape = collision::Box{Eigen::Vector3d::Constant(core), margin};
+    shapes.set(&hull, rounded);
+  }
+  // The deepest point of any manifold (-1 if none).
+  double deepest() {
+    double d = -1.0;
+    for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+      const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+      for (int k = 0; k < manifold->getNumContacts(); ++k)
+        d = std::max(d, -static_cast<double>(manifold->getContactPoint(k).getDistance()));
+    }
+    return d;
+  }
+};
+
 // Two rounded boxes (core 0.46, margin 0.04) overlapping by 2e-2 through
 // the collision algorithm at a given breaking threshold: the deepest point
 // Bullet's manifold holds.
 double deepest_point(double threshold, double tilt) {
-  btDefaultCollisionConfiguration configuration;
-  btCollisionDispatcher dispatcher(&configuration);
-  HedraCollisionAlgorithm::CreateFunc create;
-  simulate::ShapeCache shapes;
-  simulate::register_hedra(dispatcher, create, shapes);
-  btDbvtBroadphase broadphase;
-  btCollisionWorld world(&dispatcher, &broadphase, &configuration);
-  btConvexHullShape hull;
-  for (int i = 0; i < 8; ++i)
-    hull.addPoint(btVector3(i & 1 ? 0.46 : -0.46, i & 2 ? 0.46 : -0.46, i & 4 ? 0.46 : -0.46));
-  hull.setMargin(0.04);
-  simulate::CachedShape rounded;
-  rounded.shape = collision::Box{Eigen::Vector3d::Constant(0.46), 0.04};
-  shapes.set(&hull, rounded);
+  HedraWorld w(ManifoldUpdate::keep_new, 0.46, 0.04);
   btCollisionObject a, b;
-  a.setCollisionShape(&hull);
-  b.setCollisionShape(&hull);
+  a.setCollisionShape(&w.hull);
+  b.setCollisionShape(&w.hull);
   a.setWorldTransform(btTransform::getIdentity());
   b.setWorldTransform(btTransform(btQuaternion(btVector3(1, 0.3, 0).normalized(), tilt), btVector3(0.3, 0, 0)));
   // Lower b until the exact overlap is 2e-2.
-  const collision::Shape& s = rounded.shape;
+  const collision::Shape& s = w.rounded.shape;
   double lo = 0.5, hi = 1.5;
   for (int i = 0; i < 80; ++i) {
     const double z = 0.5 * (lo + hi);
@@ -122,22 +143,15 @@ double deepest_point(double threshold, double tilt) {
     (d < -0.02 ? lo : hi) = z;
   }
   b.getWorldTransform().setOrigin(btVector3(0.3, 0, hi));
-  world.addCollisionObject(&a);
-  world.addCollisionObject(&b);
-  world.performDiscreteCollisionDetection();
-  double deepest = -1.0;
-  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
-    btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-    manifold->setContactBreakingThreshold(threshold);
-  }
-  world.performDiscreteCollisionDetection();  // again, at the threshold set
-  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
-    const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
-    for (int k = 0; k < manifold->getNumContacts(); ++k)
-      deepest = std::max(deepest, -static_cast<double>(manifold->getContactPoint(k).getDistance()));
-  }
-  world.removeCollisionObject(&b);
-  world.removeCollisionObject(&a);
+  w.world.addCollisionObject(&a);
+  w.world.addCollisionObject(&b);
+  w.world.performDiscreteCollisionDetection();
+  for (int m = 0; m < w.dispatcher.getNumManifolds(); ++m)
+    w.dispatcher.getManifoldByIndexInternal(m)->setContactBreakingThreshold(threshold);
+  w.world.performDiscreteCollisionDetection();  // again, at the threshold set
+  const double deepest = w.deepest();
+  w.world.removeCollisionObject(&b);
+  w.world.removeCollisionObject(&a);
   return deepest;
 }
 
@@ -150,52 +164,36 @@ double margin_rise(double roll) { return 0.05 * (1.0 - std::cos(roll)); }
 // frame's points held by friction anchors (as a solver leaves them: a
 // normal impulse, no friction); and the exact depth.
 std::pair<double, double> rolled_edge(ManifoldUpdate update, double roll) {
-  btDefaultCollisionConfiguration configuration;
-  btCollisionDispatcher dispatcher(&configuration);
-  HedraCollisionAlgorithm::CreateFunc create;
-  create.update = update;
-  simulate::ShapeCache shapes;
-  simulate::register_hedra(dispatcher, create, shapes);
-  btDbvtBroadphase broadphase;
-  btCollisionWorld world(&dispatcher, &broadphase, &configuration);
   const double core = 0.45, margin = 0.05, depth = 1e-3;
+  HedraWorld w(update, core, margin);
   btBoxShape ground_shape(btVector3(5, 5, 0.5));
-  btConvexHullShape hull;
-  for (int i = 0; i < 8; ++i)
-    hull.addPoint(btVector3(i & 1 ? core : -core, i & 2 ? core : -core, i & 4 ? core : -core));
-  hull.setMargin(margin);
-  simulate::CachedShape rounded;
-  rounded.shape = collision::Box{Eigen::Vector3d::Constant(core), margin};
-  shapes.set(&hull, rounded);
   btCollisionObject ground, box;
   ground.setCollisionShape(&ground_shape);
   ground.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, -0.5)));
-  box.setCollisionShape(&hull);
+  box.setCollisionShape(&w.hull);
   box.setCollisionFlags(box.getCollisionFlags() | btCollisionObject::CF_HAS_FRICTION_ANCHOR);
   // On the core edge (0, -core, -core), turned 45 degrees about x.
   const double edge_height = core * std::sqrt(2.0);
   box.setWorldTransform(
       btTransform(btQuaternion(btVector3(1, 0, 0), M_PI / 4), btVector3(0, 0, edge_height + margin - depth)));
-  world.addCollisionObject(&ground);
-  world.addCollisionObject(&box);
-  world.performDiscreteCollisionDetection();
-  btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(0);
+  w.world.addCollisionObject(&ground);
+  w.world.addCollisionObject(&box);
+  w.world.performDiscreteCollisionDetection();
+  btPersistentManifold* manifold = w.dispatcher.getManifoldByIndexInternal(0);
   for (int k = 0; k < manifold->getNumContacts(); ++k) manifold->getContactPoint(k).m_appliedImpulse = 1.0;
   // Roll about the core edge, the line through (0, 0, margin - depth) along x.
   const btVector3 edge(0, 0, margin - depth);
   const btQuaternion turn(btVector3(1, 0, 0), roll);
   const btTransform& start = box.getWorldTransform();
   box.setWorldTransform(btTransform(turn * start.getRotation(), edge + quatRotate(turn, start.getOrigin() - edge)));
-  world.performDiscreteCollisionDetection();
-  double deepest = -1.0;
-  for (int k = 0; k < manifold->getNumContacts(); ++k)
-    deepest = std::max(deepest, -static_cast<double>(manifold->getContactPoint(k).getDistance()));
+  w.world.performDiscreteCollisionDetection();
   const collision::Box ground_box{Eigen::Vector3d(5, 5, 0.5)};
-  const double exact = -collision::penetration(rounded.shape, to_pose(box.getWorldTransform()), ground_box,
+  const double exact = -collision::penetration(w.rounded.shape, to_pose(box.getWorldTransform()), ground_box,
                                                to_pose(ground.getWorldTransform()))
                             .distance;
-  world.removeCollisionObject(&box);
-  world.removeCollisionObject(&ground);
+  const double deepest = w.deepest();
+  w.world.removeCollisionObject(&box);
+  w.world.removeCollisionObject(&ground);
   return {deepest, exact};
 }
 
