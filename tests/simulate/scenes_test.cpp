@@ -10,7 +10,9 @@
 //     has gone to sleep (Bullet deactivates a body after 2 s below its
 //     sleeping thresholds);
 //   * pile (20 seeded random hulls dropped on the ground): every hull ends
-//     above the ground's top within 1% of its size.
+//     above the ground's top within 1% of its size, and no pair deeper than
+//     0.05% (friction anchors held at the old contact's depth let it sink
+//     0.2%; Bullet's narrowphase, 0.12%).
 // hedra must have answered the pairs (its query counter moves by at least
 // one query per body and step while awake). Bullet's own narrowphase runs
 // the same scene and is printed beside it, not asserted.
@@ -74,6 +76,7 @@ TEST(SimulateScenes, PileOfTwentyHullsSettles) {
   EXPECT_GE(r.hedra_queries, 20L * 60);
   EXPECT_GT(r.manifolds_per_step, 15.0);  // a pile, not 20 hulls apart
   expect_at_rest_and_unbroken(r);
+  EXPECT_LT(r.max_penetration, 5e-4);
 }
 
 }  // namespace

@@ -10,8 +10,10 @@
 // 1,000 kg (squeezed out within a second) and the capsule standing on its
 // round end (an unstable balance). The plates' bound is the solver's
 // resting depth (about 1 mm, 10 % of a 1 cm plate; Bullet's narrowphase:
-// 19 %). One ctest per scene; the 60-hull piles are the longest (1 to 3 s
-// each in a release build, 13 and 22 s under ASan + UBSan at -O1).
+// 19 %). The rounded 60-hull pile's bound, 0.1 %, is what friction
+// anchors held at the old contact's depth broke (0.15 %). One ctest per
+// scene; the 60-hull piles are the longest (1 to 3 s each in a release
+// build, 13 and 22 s under ASan + UBSan at -O1).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -63,7 +65,7 @@ INSTANTIATE_TEST_SUITE_P(
         StiffCase{SceneKind::stack_20, true, 0.005}, StiffCase{SceneKind::stack_30, false, 0.01},
         StiffCase{SceneKind::mass_100, true, 0.01}, StiffCase{SceneKind::mass_1000, false, 0.01},
         StiffCase{SceneKind::plates, true, 0.15}, StiffCase{SceneKind::plate_1mm, true, 0.01},
-        StiffCase{SceneKind::pile_60, false, 0.01}, StiffCase{SceneKind::pile_60_rounded, false, 0.01},
+        StiffCase{SceneKind::pile_60, false, 0.01}, StiffCase{SceneKind::pile_60_rounded, false, 0.001},
         StiffCase{SceneKind::far_1e4, true, 0.005}, StiffCase{SceneKind::far_1e5, true, 0.005},
         StiffCase{SceneKind::tiny_on_ground, true, 0.01}, StiffCase{SceneKind::tiny_on_box, true, 0.01},
         StiffCase{SceneKind::rounded_boxes, true, 0.005}, StiffCase{SceneKind::rounded_hulls, true, 0.005},

@@ -91,6 +91,43 @@ int continued(const btPersistentManifold& manifold, const btManifoldPoint& q,
   return match;
 }
 
+// Bullet's friction anchor (btPersistentManifold::replaceContactPoint with
+// BT_CONTACT_FLAG_FRICTION_ANCHOR): the old point `old` is kept instead of
+// the new point `q` that continues it while its friction impulse stays
+// inside the Coulomb cone.
+bool anchor_holds(const btManifoldPoint& old, const btManifoldPoint& q) {
+  if (!(q.m_contactPointFlags & BT_CONTACT_FLAG_FRICTION_ANCHOR)) return false;
+  const double lateral = old.m_appliedImpulseLateral1 * old.m_appliedImpulseLateral1 +
+                         old.m_appliedImpulseLateral2 * old.m_appliedImpulseLateral2;
+  const double cone = old.m_combinedFriction * old.m_appliedImpulse;
+  return lateral <= cone * cone;
+}
+
+// A held anchor `p` keeps its two material points and its world normal, so
+// the depth the solver reads from it is the old contact's: on a body that
+// rolls (a rounded corner or edge, a hull tipping over an edge) the two
+// material points part along the normal while the surfaces overlap as deep
+// as before, and the solver lets the body sink (a 20-hull pile, 0.1 to
+// 0.4 % of its size). Here the point on body 0 moves along the held normal
+// until the point reads `q`'s depth, if it read shallower. The held normal
+// stays (it is fixed in the world: given q's, which tilts with the bodies,
+// the 2 cm boxes on a unit box fell in 8 of 9 runs), and a point reading
+// deeper stays (raised too, one pile run in 40 ended 0.1 % deep). The
+// sideways offset of the two material points, which the refresh checks
+// against the breaking threshold, is unchanged.
+void deepen_held_anchor(btManifoldPoint& p, const btManifoldPoint& q, const btTransform& body0,
+                        const btTransform& body1) {
+  const btVector3 on0 = body0(p.m_localPointA), on1 = body1(p.m_localPointB);
+  const btVector3& n = p.m_normalWorldOnB;  // from body 1 toward body 0
+  const double reads = (on0 - on1).dot(n);  // < 0: penetration
+  if (reads <= q.m_distance1) return;
+  const btVector3 moved = on0 + n * (q.m_distance1 - reads);
+  p.m_localPointA = body0.invXform(moved);
+  p.m_positionWorldOnA = moved;
+  p.m_positionWorldOnB = on1;
+  p.m_distance1 = q.m_distance1;
+}
+
 // Twice the largest area of a quadrilateral through four points, over the
 // three ways of pairing them as diagonals.
 double quad_area(const btVector3 (&p)[MANIFOLD_CACHE_SIZE]) {
@@ -124,9 +161,10 @@ int stale(const btPersistentManifold& manifold, const btManifoldPoint& q, const 
 // Bullet's merge of a frame's points into the persistent manifold, made for
 // a full manifold: the old points that no longer hold at the current poses
 // go first, a new point continues the old one Bullet would match (keeping
-// its warm start and friction anchor: btPersistentManifold::
-// replaceContactPoint), and a new point never evicts another of the same
-// frame (Bullet's area rule, made for one new point a frame, may).
+// its warm start: btPersistentManifold::replaceContactPoint; a held friction
+// anchor made at least as deep as the new point, deepen_held_anchor()), and
+// a new point never evicts another of the same frame (Bullet's area rule,
+// made for one new point a frame, may).
 void merge_points(const collision::ContactResult& r, const int (&order)[collision::kMaxContactPoints],
                   const btCollisionObject* a, const btCollisionObject* b, btPersistentManifold& manifold) {
   manifold.refreshContactPoints(manifold.getBody0()->getWorldTransform(), manifold.getBody1()->getWorldTransform());
@@ -135,7 +173,10 @@ void merge_points(const collision::ContactResult& r, const int (&order)[collisio
   for (int i = 0; i < r.count && i < MANIFOLD_CACHE_SIZE; ++i) {
     const btManifoldPoint q = bullet_point(r.points[order[i]], r.normal, a, b, swapped);
     int slot = continued(manifold, q, fresh);
-    if (slot >= 0) {
+    if (slot >= 0 && anchor_holds(manifold.getContactPoint(slot), q)) {
+      deepen_held_anchor(manifold.getContactPoint(slot), q, manifold.getBody0()->getWorldTransform(),
+                         manifold.getBody1()->getWorldTransform());
+    } else if (slot >= 0) {
       manifold.replaceContactPoint(q, slot);
     } else if (manifold.getNumContacts() < MANIFOLD_CACHE_SIZE) {
       slot = manifold.addManifoldPoint(q, true);

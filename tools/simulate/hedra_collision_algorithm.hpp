@@ -69,8 +69,9 @@ class ShapeCache {
 enum class ManifoldUpdate {
   // Bullet's merge made for a whole manifold a frame (merge_points() in the
   // source): stale old points dropped first, a new point continuing the old
-  // one Bullet matches (warm start, friction anchor), and no new point
-  // evicting another of the same frame.
+  // one Bullet matches (warm start, friction anchor; a held anchor never
+  // reads shallower than hedra's point), and no new point evicting another
+  // of the same frame.
   keep_new,
   // Bullet's own merge (btManifoldResult::addContactPoint), made for
   // detectors that add one point a frame: in a full manifold a new point
