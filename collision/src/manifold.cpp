@@ -295,18 +295,23 @@ Index corner_edge(const SatPolytope& poly, const Placement& place, Index f, cons
 
 // Face contact: reference face `ref_face` of `ref`, incident face searched
 // around inc's support vertex. Candidates' on_a / on_b follow A and B
-// (ref_is_a says which is which). Returns false when a face is too large for
+// (ref_is_a says which is which). `along` (A's frame, out of ref, unit;
+// null: the face's normal) is the direction the points are measured along:
+// the side planes are swept along it, and each separation is the gap along
+// it from the reference plane. Returns false when a face is too large for
 // the fixed buffers.
 bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatPolytope& inc,
                   const Placement& inc_place, Index ref_face, bool ref_is_a, double tolerance, double max_separation,
-                  CandidateList& out, int& clipped) {
+                  CandidateList& out, int& clipped, const Vec* along = nullptr) {
   const hull::HalfEdgeMesh& rm = *ref.mesh;
   const hull::HalfEdgeMesh& im = *inc.mesh;
   const hull::Plane& rp = ref.plane(ref_face);
   const Vec n = ref_place.direction(rp.normal);  // A's frame, out of ref
+  const Vec u = along ? *along : n;              // the sweep
+  const double slope = along ? n.dot(u) : 1.0;   // within the angle tolerance of 1
   const Vec ref_point = ref_place.point(ref.vertex(rm.origin(rm.faces[ref_face].edge)));
   const double offset = n.dot(ref_point);
-  const Index inc_face = incident_face(inc, inc_place, n);
+  const Index inc_face = incident_face(inc, inc_place, u);
   if (inc_face == hull::kInvalidIndex) return false;
   const std::size_t inc_degree = im.face_degree(inc_face), ref_degree = rm.face_degree(ref_face);
   if (inc_degree + ref_degree > kClipCapacity) return false;
@@ -330,7 +335,7 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
   for (const Index e : rm.face_edges(ref_face)) {
     const Vec p0 = ref_place.point(ref.vertex(rm.origin(e)));
     const Vec p1 = ref_place.point(ref.vertex(rm.destination(e)));
-    const Vec side = (p1 - p0).cross(n).normalized();
+    const Vec side = (p1 - p0).cross(u).normalized();
     side_edges[side_count] = e;
     sides.set(side_count++, hull::Plane{side, side.dot(p0)});
   }
@@ -348,15 +353,15 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
   CandidateList below;
   clipped = static_cast<int>(count);
   for (std::size_t i = 0; i < count; ++i) {
-    const double s = n.dot(src[i]) - offset;
+    const double s = (n.dot(src[i]) - offset) / slope;
     if (s <= max_separation) below.push(src[i], src[i], s, FeatureId{});
   }
   std::array<std::size_t, kMaxContactPoints> keep{};
-  const int kept = reduce(below, n, keep);
+  const int kept = reduce(below, u, keep);
   for (int i = 0; i < kept; ++i) {
     const Vec p = below[keep[i]].on_b;
     const double s = below[keep[i]].separation;
-    const Vec on_ref = p - s * n;
+    const Vec on_ref = p - s * u;
     // Feature id: an incident vertex kept as is, else a crossing of an
     // incident edge with a side plane, else a corner of the reference face.
     FeatureId id;
@@ -429,6 +434,27 @@ void round_candidates(CandidateList& c, const Vec& nf, bool ref_is_a, double r_r
   }
 }
 
+// The same along a normal `along` tilted off the reference face's normal
+// (A's frame, out of the reference; the points from face_contact swept
+// along it): the reference side moves by its exit along `along` from the
+// reference core grown by r_ref (r_ref / cos of the tilt inside the face,
+// less near its edges, exactly r_ref where `along` is in the core's normal
+// cone), the incident side by its exit along -along.
+void round_along(CandidateList& c, const Vec& along, bool ref_is_a, const SatPolytope& ref, const Placement& ref_place,
+                 Index ref_face, double r_ref, const SatPolytope& inc, const Placement& inc_place, Index inc_face,
+                 double r_inc) {
+  for (std::size_t i = 0; i < c.size; ++i) {
+    Candidate& x = c[i];
+    Vec& on_ref = ref_is_a ? x.on_a : x.on_b;
+    Vec& on_inc = ref_is_a ? x.on_b : x.on_a;
+    const double t_ref = r_ref > 0.0 ? exit_distance(ref, ref_place, ref_face, on_ref, along, r_ref) : 0.0;
+    const double t_inc = r_inc > 0.0 ? exit_distance(inc, inc_place, inc_face, on_inc, -along, r_inc) : 0.0;
+    on_ref += t_ref * along;
+    on_inc -= t_inc * along;
+    x.separation -= t_ref + t_inc;
+  }
+}
+
 // Closest points of segments p0 + s u and q0 + t v, s, t in [0, 1]
 // (Ericson, Real-Time Collision Detection, 5.1.9, with guarded divisions).
 void closest_segment_points(const Vec& p0, const Vec& u, const Vec& q0, const Vec& v, Vec& on_p, Vec& on_q) {
@@ -486,11 +512,6 @@ double scale_of(const SatPolytope& a, const SatPolytope& b) { return std::max(a.
 // price: kept points may lie that far outside the reference face.
 double geometric_tolerance(double scale) { return 1e-6 * scale; }
 
-// GJK's normal of separated cores within this angle (radians) of a face
-// normal is that face's normal (closest features face-vertex, face-edge or
-// face-face; GJK's direction error is ~eps scale / distance).
-constexpr double kExactNormalAngle = 1e-6;
-
 // The largest separation that still yields points: the contact distance
 // plus the touching band of penetration() (a fraction of the pair's size).
 // Touching surfaces are 0 apart only up to rounding: SAT's separation, a
@@ -520,6 +541,7 @@ struct PolytopePair {
   double ra = 0.0, rb = 0.0;  // margins
   double scale = 0.0;         // the pair's size
   double keep = 0.0;          // largest separation that yields points (rounded surfaces)
+  double band = 0.0;          // penetration()'s touching band at the pair's size
   double core_contact = 0.0;  // the same between the cores
   double shape_scale = 0.0;   // max bounding radius, as single_point measures it
   Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
@@ -549,25 +571,30 @@ Index edge_across(const SatPolytope& poly, const Vec& n) {
 // within the contact distance; sharp ones within it whose SAT contact is not
 // exact, see build_manifold): SAT's axes only bound the cores' distance,
 // so the manifold is built around the exact normal n of the cores' closest
-// features (penetration()'s, GJK on the cores). When n is a face normal of
-// A or of B (closest features face-vertex, face-edge or face-face), that
-// face is the reference and the points are the clipped incident face with
-// exact rounded depths; otherwise the closest features are a vertex or an
-// edge on each side and the contact is penetration()'s single point.
+// features (penetration()'s, GJK on the cores). When n is within the face
+// angle tolerance of a face normal of A or of B (closest features
+// face-vertex, face-edge or face-face, or a face's edge or corner against a
+// part of the other shape overhanging it: n tilted off the face), that face
+// is the reference: the incident face is clipped by its side planes swept
+// along n, and every point's depth is the exact gap of the rounded surfaces
+// along n (core gap less both exits), so the deepest is penetration()'s
+// (its witnesses added where n's own error clips them away). Otherwise the
+// closest features are a vertex or an edge on each side and the contact is
+// penetration()'s single point.
 
-// The face for the exact normal n (A's frame, A -> B): A's within
-// kExactNormalAngle of n, else B's; kind none when neither.
-SatAxis rounded_face_along(const PolytopePair& pp, const Vec& n) {
-  const double cos_exact = std::cos(kExactNormalAngle);
+// The face for the exact normal n (A's frame, A -> B): A's within the face
+// angle tolerance of n, else B's; kind none when neither.
+SatAxis rounded_face_along(const PolytopePair& pp, const Vec& n, const ContactSettings& settings) {
+  const double cos_tol = std::cos(settings.face_angle_tolerance);
   SatAxis axis;
-  const Index fa = face_along(pp.pa, n, cos_exact);
+  const Index fa = face_along(pp.pa, n, cos_tol);
   if (fa != hull::kInvalidIndex) {
     axis.kind = SatAxisKind::face_a;
     axis.feature_a = fa;
     axis.normal = pp.pa.plane(fa).normal;
     return axis;
   }
-  const Index fb = face_along(pp.pb, pp.rel.rotation.transpose() * -n, cos_exact);
+  const Index fb = face_along(pp.pb, pp.rel.rotation.transpose() * -n, cos_tol);
   if (fb != hull::kInvalidIndex) {
     axis.kind = SatAxisKind::face_b;
     axis.feature_b = fb;
@@ -576,43 +603,49 @@ SatAxis rounded_face_along(const PolytopePair& pp, const Vec& n) {
   return axis;
 }
 
-// That face's manifold with exact rounded depths; false when it has none
-// (a face too large for the buffers, no point kept).
-bool rounded_face_manifold(const PolytopePair& pp, const WorldFrame& world, const SatAxis& face, ContactResult& out) {
+void add_witnesses_if_missed(const ContactResult& first, const WorldFrame& world, double slack, CandidateList& c);
+
+// That face's manifold along the exact normal n (A's frame, A -> B) with
+// exact rounded depths; `exact`: penetration()'s point (world), added when
+// every clipped point is shallower (null when n is the face's normal and
+// the closest points lie inside the face). False when the face has none (a
+// face too large for the buffers, no point kept).
+bool rounded_face_manifold(const PolytopePair& pp, const WorldFrame& world, const SatAxis& face, const Vec& n,
+                           const ContactResult* exact, ContactResult& out) {
   const double tol = geometric_tolerance(pp.scale);
   const double ra = pp.ra, rb = pp.rb;
   CandidateList candidates;
-  const Vec& normal = face.normal;
-  if (face.kind == SatAxisKind::face_a) {
-    out.path = ContactPath::face_a;
-    if (!face_contact(pp.pa, pp.identity, pp.pb, pp.placed_b, face.feature_a, true, tol, pp.keep + ra + rb, candidates,
-                      out.stats.clipped_points))
-      return false;
-    round_candidates(candidates, normal, true, ra, pp.pb, pp.placed_b, incident_face(pp.pb, pp.placed_b, normal), rb);
-  } else {
-    out.path = ContactPath::face_b;
-    const Vec nb = -normal;  // out of B, A's frame
-    if (!face_contact(pp.pb, pp.placed_b, pp.pa, pp.identity, face.feature_b, false, tol, pp.keep + ra + rb, candidates,
-                      out.stats.clipped_points))
-      return false;
-    round_candidates(candidates, nb, false, rb, pp.pa, pp.identity, incident_face(pp.pa, pp.identity, nb), ra);
-  }
-  emit(candidates, normal, 0.0, 0.0, pp.keep, world, out);
+  const bool of_a = face.kind == SatAxisKind::face_a;
+  const Vec along = of_a ? n : Vec(-n);  // out of the reference
+  const SatPolytope& ref = of_a ? pp.pa : pp.pb;
+  const SatPolytope& inc = of_a ? pp.pb : pp.pa;
+  const Placement& ref_place = of_a ? pp.identity : pp.placed_b;
+  const Placement& inc_place = of_a ? pp.placed_b : pp.identity;
+  const Index ref_face = of_a ? face.feature_a : face.feature_b;
+  out.path = of_a ? ContactPath::face_a : ContactPath::face_b;
+  if (!face_contact(ref, ref_place, inc, inc_place, ref_face, of_a, tol, pp.keep + ra + rb, candidates,
+                    out.stats.clipped_points, &along))
+    return false;
+  round_along(candidates, along, of_a, ref, ref_place, ref_face, of_a ? ra : rb, inc, inc_place,
+              incident_face(inc, inc_place, along), of_a ? rb : ra);
+  if (exact) add_witnesses_if_missed(*exact, world, pp.band, candidates);
+  emit(candidates, n, 0.0, 0.0, pp.keep, world, out);
   return out.count > 0;
 }
 
 // `single`: penetration()'s answer. `used`: the axis the manifold stands on
 // (the face, or the edges at the support vertices: the next frame's cache).
 ContactResult rounded_cores_apart(const PolytopePair& pp, const Pose& pose_a, const WorldFrame& world,
-                                  const ContactResult& single, const ContactStats& stats, SatAxis& used) {
+                                  const ContactResult& single, const ContactStats& stats,
+                                  const ContactSettings& settings, SatAxis& used) {
   used = SatAxis{};
   if (single.count == 0 || single.status != Status::ok) return single;
   const Vec n = pose_a.rotation.transpose() * single.normal;  // A's core frame, A -> B
-  used = rounded_face_along(pp, n);
+  used = rounded_face_along(pp, n, settings);
   if (used.kind != SatAxisKind::none) {
     ContactResult out;
     out.stats = stats;
-    if (rounded_face_manifold(pp, world, used, out)) return out;
+    if (rounded_face_manifold(pp, world, used, n, &single, out)) return out;
   } else {
     used.kind = SatAxisKind::edge;
     used.feature_a = edge_across(pp.pa, n);
@@ -629,9 +662,12 @@ ContactResult rounded_cores_apart(const PolytopePair& pp, const Pose& pose_a, co
 // cold query would do otherwise (then it runs).
 bool rounded_apart_from_cache(const PolytopePair& pp, const WorldFrame& world, const SatAxis& axis,
                               const ContactSettings& settings, ContactResult& out) {
-  const SatAxis face = rounded_face_along(pp, axis.normal);
-  if (face.kind != SatAxisKind::none) return rounded_face_manifold(pp, world, face, out);
-  if (axis.kind != SatAxisKind::edge) return false;
+  const SatAxis face = rounded_face_along(pp, axis.normal, settings);
+  if (axis.kind != SatAxisKind::edge) {
+    // A face axis certified exact: its normal is the cores', their closest
+    // points inside the face.
+    return face.kind != SatAxisKind::none && rounded_face_manifold(pp, world, face, axis.normal, nullptr, out);
+  }
   const hull::HalfEdgeMesh& ma = *pp.pa.mesh;
   const hull::HalfEdgeMesh& mb = *pp.pb.mesh;
   const Vec a0 = pp.pa.vertex(ma.origin(axis.feature_a)), a1 = pp.pa.vertex(ma.destination(axis.feature_a));
@@ -645,7 +681,10 @@ bool rounded_apart_from_cache(const PolytopePair& pp, const WorldFrame& world, c
   p.point_a = world.point(on_a + pp.ra * axis.normal);
   p.point_b = world.point(on_b - pp.rb * axis.normal);
   const ContactStats stats = out.stats;
-  out = penetration_point(p, pp.shape_scale, settings);
+  const ContactResult single = penetration_point(p, pp.shape_scale, settings);
+  out.stats = stats;
+  if (face.kind != SatAxisKind::none) return rounded_face_manifold(pp, world, face, axis.normal, &single, out);
+  out = single;
   out.stats = stats;
   return true;
 }
@@ -792,7 +831,7 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   // rounded cores.
   if (apart && built && candidates.size > 0 && deepest > axis_separation + band) {
     SatAxis used;
-    const ContactResult r = rounded_cores_apart(pp, pose_a, world, fallback(), stats, used);
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, fallback(), stats, settings, used);
     remember(cache, used);
     return r;
   }
@@ -979,7 +1018,7 @@ ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Sha
   if (pp.ra + pp.rb > 0.0 && best.separation > settings.penetration.touching_band * pp.scale) {
     const ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
     SatAxis used;
-    const ContactResult r = rounded_cores_apart(pp, pose_a, world, single, stats, used);
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, single, stats, settings, used);
     remember(cache, used);
     return r;
   }
@@ -1020,7 +1059,7 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   const double s_exact = p.distance + pp.ra + pp.rb;  // between the cores
   if (pp.ra + pp.rb > 0.0 && s_exact > settings.penetration.touching_band * pp.scale) {
     SatAxis used;
-    const ContactResult r = rounded_cores_apart(pp, pose_a, world, exact, ContactStats{}, used);
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, exact, ContactStats{}, settings, used);
     remember(cache, used);
     return r;
   }
@@ -1078,7 +1117,7 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
   if (pp.ra + pp.rb > 0.0 && axis.separation > 0.0) {
     if (!(axis.separation > band)) return false;
     if (!rounded_apart_from_cache(pp, world, axis, settings, out)) return false;
-    remember(cache, axis.kind == SatAxisKind::edge ? axis : rounded_face_along(pp, axis.normal));
+    remember(cache, axis.kind == SatAxisKind::edge ? axis : rounded_face_along(pp, axis.normal, settings));
     return true;
   }
   if (axis.kind != SatAxisKind::edge) {
@@ -1120,6 +1159,7 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   pp.rb = core_radius(b);
   pp.scale = scale_of(pp.pa, pp.pb) + std::max(pp.ra, pp.rb);
   pp.keep = keep_below(settings, pp.scale);
+  pp.band = settings.penetration.touching_band * pp.scale;
   pp.core_contact = pp.keep + pp.ra + pp.rb;
   pp.shape_scale = std::max(bounding_radius(shape_a), bounding_radius(shape_b));
   const WorldFrame world{pose_a, core_offset(a)};

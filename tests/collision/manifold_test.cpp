@@ -343,6 +343,69 @@ TEST(Manifold, RoundedDepthsFollowTheCoresClosestFeaturesAndTheRoundedSurfaces) 
   }
 }
 
+// Rounded cores apart whose closest features are a face's edge or corner
+// and a vertex of the other core hanging just beyond it (a tilted rounded
+// box resting over a rounded box's edge or corner): the exact normal is
+// tilted off both faces by the overhang over the gap (1e-5 to 7e-4 rad
+// here), not a face normal. Within the face angle tolerance the face
+// manifold is built along that exact normal (side planes swept along it),
+// every point's depth the exact gap of the rounded surfaces on its line and
+// the deepest exactly penetration()'s, in both orders.
+TEST(Manifold, RoundedCoresApartWithTheirNormalTiltedOffAFaceKeepTheFaceManifoldAlongTheExactNormal) {
+  const Vec half_a(1.0, 1.0, 0.5), half_b(0.3, 0.25, 0.3);
+  const double ma = 0.05, mb = 0.04;
+  const Shape a = Box{half_a, ma}, b = Box{half_b, mb};
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> tilt(1e-4, 1.5e-3), share(0.05, 0.45), depth(1e-3, 2e-2), along(-0.5, 0.5);
+  int tilted = 0, checked = 0;
+  for (int i = 0; i < 100; ++i) {
+    // The +x side down (about y), a little about x: a +x corner lowest.
+    const double theta = tilt(rng);
+    const Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(theta, Vec::UnitY())) *
+                                 Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * along(rng) * theta, Vec::UnitX()));
+    Vec lowest = q * half_b;
+    for (int c = 0; c < 8; ++c) {
+      const Vec v =
+          q * Vec(c & 1 ? half_b.x() : -half_b.x(), c & 2 ? half_b.y() : -half_b.y(), c & 4 ? half_b.z() : -half_b.z());
+      if (v.z() < lowest.z()) lowest = v;
+    }
+    // That corner beyond A's +x edge (or, one in two, its +x+y corner) by
+    // less than the gap times the tilt, so that no face holds the closest
+    // points.
+    const double gap = ma + mb - depth(rng);
+    const double beyond = share(rng) * gap * theta;
+    const Vec corner(half_a.x() + beyond, i % 2 ? half_a.y() + beyond : along(rng), half_a.z() + gap);
+    const Pose pa = Pose::identity(), pb = Pose::from_quaternion(q, corner - lowest);
+    const PenetrationResult exact = penetration(a, pa, b, pb);
+    ASSERT_EQ(exact.status, Status::ok);
+    const double off_face = std::acos(std::min(1.0, exact.normal.z()));
+    if (!(off_face > 1e-6 && off_face < 1e-3)) continue;
+    ++tilted;
+    for (const bool swapped : {false, true}) {
+      const ContactResult r = swapped ? contact(b, pb, a, pa) : contact(a, pa, b, pb);
+      SCOPED_TRACE(std::to_string(i) + (swapped ? " swapped " : " ") + to_string(r.path));
+      ASSERT_EQ(r.status, Status::ok);
+      EXPECT_TRUE(r.path == ContactPath::face_a || r.path == ContactPath::face_b);
+      EXPECT_GE(r.count, 2);
+      EXPECT_LT((r.normal - (swapped ? -exact.normal : exact.normal)).norm(), 1e-9);
+      // Deeper only by the clipping tolerance's reach (1e-6 beyond a side plane).
+      EXPECT_NEAR(r.distance, exact.distance, 1e-10);
+      double deepest = -INFINITY;
+      for (int k = 0; k < r.count; ++k) {
+        const Vec pa_k = on_a(r.points[k], r), pb_k = on_b(r.points[k], r);
+        EXPECT_NEAR(box_distance(swapped ? half_b : half_a, swapped ? pb : pa, pa_k) - (swapped ? mb : ma), 0.0, 1e-10);
+        EXPECT_NEAR(box_distance(swapped ? half_a : half_b, swapped ? pa : pb, pb_k) - (swapped ? ma : mb), 0.0, 1e-10);
+        deepest = std::max(deepest, r.points[k].depth);
+      }
+      EXPECT_GE(deepest, -exact.distance - 1e-12);
+      EXPECT_LE(deepest, -exact.distance + 1e-10);
+      ++checked;
+    }
+  }
+  EXPECT_GT(tilted, 80);
+  EXPECT_EQ(checked, 2 * tilted);
+}
+
 // A capsule's surface along a face normal lies r / sin(tilt) from its
 // segment on the side, not r: each point's depth is the gap on its line.
 TEST(Manifold, TiltedCapsulePointsLieOnTheCapsule) {

@@ -62,9 +62,14 @@
 // of the face; the incident side where the line leaves the incident core
 // grown by its radius: r / cos(tilt) off a tilted face). Cores apart
 // (rounded or sharp, within the contact distance): SAT only bounds their
-// distance, so the manifold follows GJK's normal of the cores (a face
-// contact when it is a face normal of A or B within 1e-6 rad, else
-// penetration()'s point). A face contact whose kept points are
+// distance, so the manifold follows the exact normal n of the cores (GJK's):
+// when n is within face_angle_tolerance of a face normal of A or B (a face
+// against the other's face, edge or corner, or an edge or corner of the face
+// against a part hanging beyond it: n tilted), a face contact with n as its
+// normal: the incident face clipped by the reference face's side planes
+// swept along n, each point's depth the gap of the rounded surfaces on its
+// line along n (both sides' exits from their grown cores), the deepest
+// penetration()'s; otherwise penetration()'s point. A face contact whose kept points are
 // shallower than its axis by more than the bias (the deepest incident
 // vertex clipped away) is penetration()'s point too.
 //
