@@ -86,47 +86,53 @@ class CandidateList {
   alignas(Candidate) unsigned char storage_[sizeof(Candidate) * kClipCapacity];
 };
 
+// What counts as equal in the reduction: depths within `depth` (the
+// touching band: equal to rounding), lengths within `length` (the geometric
+// tolerance, as for the clipping).
+struct Ties {
+  double depth;
+  double length;
+};
+
+// The first candidate (in the clipped polygon's order) whose value is within
+// `tie` of the largest: a choice that depth or position noise below the tie
+// does not move from one point to another.
+template <class Value>
+std::size_t first_near_largest(const CandidateList& c, double tie, Value value) {
+  double best = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < c.size; ++i) best = std::max(best, value(i));
+  for (std::size_t i = 0; i < c.size; ++i)
+    if (value(i) >= best - tie) return i;
+  return 0;
+}
+
 // Reduction to at most four points (see manifold.hpp): the deepest, the
 // farthest from it, then the largest positive and the largest negative
 // signed areas of the triangle they make with a third point (about n).
-int reduce(const CandidateList& c, const Vec& n, std::array<std::size_t, kMaxContactPoints>& keep) {
+// Each choice takes the first candidate within the ties of the best (a
+// resting hexagon's six equally deep corners, its two equal triangles on
+// each side), so the kept points do not swap with noise in the depths or
+// positions: the deepest kept is at most ties.depth shallower than the
+// deepest candidate.
+int reduce(const CandidateList& c, const Vec& n, const Ties& ties, std::array<std::size_t, kMaxContactPoints>& keep) {
   if (c.size == 0) return 0;
-  std::size_t i0 = 0;
-  for (std::size_t i = 1; i < c.size; ++i)
-    if (c[i].separation < c[i0].separation) i0 = i;
+  const std::size_t i0 = first_near_largest(c, ties.depth, [&](std::size_t i) { return -c[i].separation; });
   keep[0] = i0;
   if (c.size == 1) return 1;
   const Vec p0 = c[i0].on_b;
-  std::size_t i1 = i0;
-  double far = 0.0;
-  for (std::size_t i = 0; i < c.size; ++i) {
-    const double d2 = (c[i].on_b - p0).squaredNorm();
-    if (d2 > far) {
-      far = d2;
-      i1 = i;
-    }
-  }
-  if (i1 == i0) return 1;  // all candidates coincide
+  const std::size_t i1 = first_near_largest(c, ties.length, [&](std::size_t i) { return (c[i].on_b - p0).norm(); });
+  const double far = (c[i1].on_b - p0).squaredNorm();
+  if (!(far > 0.0)) return 1;  // all candidates coincide
   keep[1] = i1;
   const Vec p1 = c[i1].on_b;
-  std::size_t i2 = i0, i3 = i0;
-  double best_pos = 0.0, best_neg = 0.0;
+  const auto area = [&](std::size_t i) { return (p0 - c[i].on_b).cross(p1 - c[i].on_b).dot(n); };
   // Areas below this (relative to the span) add nothing: collinear points.
-  const double min_area = 1e-9 * far;
-  for (std::size_t i = 0; i < c.size; ++i) {
-    const double area = (p0 - c[i].on_b).cross(p1 - c[i].on_b).dot(n);
-    if (area > best_pos) {
-      best_pos = area;
-      i2 = i;
-    }
-    if (area < best_neg) {
-      best_neg = area;
-      i3 = i;
-    }
-  }
+  const double min_area = 1e-9 * far, area_tie = ties.length * std::sqrt(far);
+  const std::size_t i2 = first_near_largest(c, area_tie, area);
+  const std::size_t i3 = first_near_largest(c, area_tie, [&](std::size_t i) { return -area(i); });
   int count = 2;
-  if (best_pos > min_area) keep[count++] = i2;
-  if (-best_neg > min_area) keep[count++] = i3;
+  if (area(i2) > min_area) keep[count++] = i2;
+  if (-area(i3) > min_area) keep[count++] = i3;
   return count;
 }
 
@@ -143,7 +149,7 @@ struct WorldFrame {
 // most max_separation (the contact distance and the touching band),
 // reduces to four and writes the world result.
 void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b, double max_separation,
-          const WorldFrame& world, ContactResult& out) {
+          const Ties& ties, const WorldFrame& world, ContactResult& out) {
   std::size_t kept = 0;
   for (std::size_t i = 0; i < c.size; ++i) {
     Candidate x = c[i];
@@ -163,7 +169,7 @@ void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b,
     for (int k = 1; k < out.count; ++k)
       if (c[keep[k]].separation < c[keep[0]].separation) std::swap(keep[0], keep[k]);
   } else {
-    out.count = reduce(c, normal, keep);
+    out.count = reduce(c, normal, ties, keep);
   }
   out.normal = world.direction(normal);
   for (int k = 0; k < out.count; ++k) {
@@ -301,8 +307,9 @@ Index corner_edge(const SatPolytope& poly, const Placement& place, Index f, cons
 // it from the reference plane. Returns false when a face is too large for
 // the fixed buffers.
 bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatPolytope& inc,
-                  const Placement& inc_place, Index ref_face, bool ref_is_a, double tolerance, double max_separation,
+                  const Placement& inc_place, Index ref_face, bool ref_is_a, const Ties& ties, double max_separation,
                   CandidateList& out, int& clipped, const Vec* along = nullptr) {
+  const double tolerance = ties.length;
   const hull::HalfEdgeMesh& rm = *ref.mesh;
   const hull::HalfEdgeMesh& im = *inc.mesh;
   const hull::Plane& rp = ref.plane(ref_face);
@@ -357,7 +364,7 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
     if (s <= max_separation) below.push(src[i], src[i], s, FeatureId{});
   }
   std::array<std::size_t, kMaxContactPoints> keep{};
-  const int kept = reduce(below, u, keep);
+  const int kept = reduce(below, u, ties, keep);
   for (int i = 0; i < kept; ++i) {
     const Vec p = below[keep[i]].on_b;
     const double s = below[keep[i]].separation;
@@ -612,7 +619,7 @@ void add_witnesses_if_missed(const ContactResult& first, const WorldFrame& world
 // face too large for the buffers, no point kept).
 bool rounded_face_manifold(const PolytopePair& pp, const WorldFrame& world, const SatAxis& face, const Vec& n,
                            const ContactResult* exact, ContactResult& out) {
-  const double tol = geometric_tolerance(pp.scale);
+  const Ties ties{pp.band, geometric_tolerance(pp.scale)};
   const double ra = pp.ra, rb = pp.rb;
   CandidateList candidates;
   const bool of_a = face.kind == SatAxisKind::face_a;
@@ -623,13 +630,13 @@ bool rounded_face_manifold(const PolytopePair& pp, const WorldFrame& world, cons
   const Placement& inc_place = of_a ? pp.placed_b : pp.identity;
   const Index ref_face = of_a ? face.feature_a : face.feature_b;
   out.path = of_a ? ContactPath::face_a : ContactPath::face_b;
-  if (!face_contact(ref, ref_place, inc, inc_place, ref_face, of_a, tol, pp.keep + ra + rb, candidates,
+  if (!face_contact(ref, ref_place, inc, inc_place, ref_face, of_a, ties, pp.keep + ra + rb, candidates,
                     out.stats.clipped_points, &along))
     return false;
   round_along(candidates, along, of_a, ref, ref_place, ref_face, of_a ? ra : rb, inc, inc_place,
               incident_face(inc, inc_place, along), of_a ? rb : ra);
   if (exact) add_witnesses_if_missed(*exact, world, pp.band, candidates);
-  emit(candidates, n, 0.0, 0.0, pp.keep, world, out);
+  emit(candidates, n, 0.0, 0.0, pp.keep, ties, world, out);
   return out.count > 0;
 }
 
@@ -770,7 +777,7 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   out.stats = stats;
   CandidateList candidates;
   const double ra = pp.ra, rb = pp.rb;
-  const double tol = geometric_tolerance(pp.scale);
+  const Ties ties{pp.band, geometric_tolerance(pp.scale)};
   const bool rounded = ra + rb > 0.0;
   const double band = settings.penetration.touching_band * pp.scale;
   const bool apart = best.separation > band;  // SAT's separation: a lower bound on the cores' distance
@@ -778,13 +785,13 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   bool built = false;
   if (best.kind == SatAxisKind::face_a) {
     out.path = ContactPath::face_a;
-    built = face_contact(pp.pa, pp.identity, pp.pb, pp.placed_b, best.feature_a, true, tol, pp.core_contact, candidates,
-                         out.stats.clipped_points);
+    built = face_contact(pp.pa, pp.identity, pp.pb, pp.placed_b, best.feature_a, true, ties, pp.core_contact,
+                         candidates, out.stats.clipped_points);
     if (built && rounded)
       round_candidates(candidates, normal, true, ra, pp.pb, pp.placed_b, incident_face(pp.pb, pp.placed_b, normal), rb);
   } else if (best.kind == SatAxisKind::face_b) {
     out.path = ContactPath::face_b;
-    built = face_contact(pp.pb, pp.placed_b, pp.pa, pp.identity, best.feature_b, false, tol, pp.core_contact,
+    built = face_contact(pp.pb, pp.placed_b, pp.pa, pp.identity, best.feature_b, false, ties, pp.core_contact,
                          candidates, out.stats.clipped_points);
     if (built && rounded)
       round_candidates(candidates, -normal, false, rb, pp.pa, pp.identity, incident_face(pp.pa, pp.identity, -normal),
@@ -848,7 +855,7 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   // outside the reference face's side planes, or its deepest vertex outside
   // them: one point from penetration().
   if (!built || candidates.size == 0 || deepest_clipped) return fallback();
-  emit(candidates, normal, shifted ? 0.0 : ra, shifted ? 0.0 : rb, pp.keep, world, out);
+  emit(candidates, normal, shifted ? 0.0 : ra, shifted ? 0.0 : rb, pp.keep, ties, world, out);
   if (out.count == 0) {
     // Nothing within the contact distance after clipping (a gap along the
     // chosen axis beyond it): report the axis.
@@ -1508,7 +1515,8 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
   }
   candidates.size = kept;
   add_witnesses_if_missed(first, world, settings.penetration.touching_band * scale, candidates);
-  emit(candidates, n, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), world, out);
+  const Ties ties{settings.penetration.touching_band * scale, tol};
+  emit(candidates, n, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), ties, world, out);
   if (out.count == 0) return first;
   return out;
 }

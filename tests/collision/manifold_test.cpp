@@ -406,6 +406,48 @@ TEST(Manifold, RoundedCoresApartWithTheirNormalTiltedOffAFaceKeepTheFaceManifold
   EXPECT_EQ(checked, 2 * tilted);
 }
 
+// A hexagonal prism resting on a box clips to six equally deep corners and
+// keeps four. Were the deepest of six equal depths the reduction's anchor,
+// noise of 1e-9 of the size in the depths (a solver's, frame to frame)
+// would pick another corner, and another four, every frame: depths within
+// the touching band tie, and ties go to the first candidate in the clipped
+// polygon's order, so the same four feature ids stay. Sharp and rounded
+// (cores apart), cold and with the pair's cache.
+TEST(Manifold, ReductionTiesWithinTheTouchingBandKeepTheSameFourPointsOfARestingHexagon) {
+  std::vector<Vec> points;
+  const double radius = 0.45, half = 0.15;
+  for (int k = 0; k < 12; ++k) {
+    const double angle = (k % 6) * M_PI / 3.0;
+    points.emplace_back(radius * std::cos(angle), radius * std::sin(angle), k < 6 ? -half : half);
+  }
+  const auto prism = make_hull(points);
+  for (const double margin : {0.0, 0.05}) {
+    const Shape a = Box{Vec(1.0, 1.0, 0.5), margin}, b = Polyhedron{prism, margin};
+    const double size = bounding_radius(a) + bounding_radius(b);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (const bool cached : {false, true}) {
+      ContactCache cache;
+      std::array<FeatureId, kMaxContactPoints> first{};
+      for (int frame = 0; frame < 200; ++frame) {
+        // Depths across the hexagon (2 radius wide) vary by up to 1e-9 of the size.
+        const double tilt = 0.5e-9 * size / (2.0 * radius);
+        const Vec axis(u(rng), u(rng), 0.0);
+        const Vec at(0.1 + 1e-9 * u(rng), -0.2 + 1e-9 * u(rng),
+                     0.5 + half + 2.0 * margin - 0.01 + 1e-9 * size * u(rng));
+        const ContactResult r = contact(a, Pose::identity(), b, rotated(axis, tilt, at), cached ? &cache : nullptr);
+        SCOPED_TRACE("margin " + std::to_string(margin) + (cached ? " cached" : " cold") + " frame " +
+                     std::to_string(frame) + " " + to_string(r.path));
+        ASSERT_EQ(r.count, 4);
+        EXPECT_NEAR(r.distance, -0.01, 2e-9 * size);
+        if (frame == 0)
+          for (int k = 0; k < 4; ++k) first[k] = r.points[k].id;
+        for (int k = 0; k < 4; ++k) EXPECT_TRUE(has_id(r, first[k])) << "point " << k << " of the first frame";
+      }
+    }
+  }
+}
+
 // A capsule's surface along a face normal lies r / sin(tilt) from its
 // segment on the side, not r: each point's depth is the gap on its line.
 TEST(Manifold, TiltedCapsulePointsLieOnTheCapsule) {
