@@ -1490,13 +1490,28 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
   // by ra (ra / cos of the tilt off the face, less near its edges). A
   // capsule is round about its segment: each point's exit along -n from the
   // segment (r / sin of the tilt on the side, less near an end), not the
-  // radius; a line through the segment (a capsule standing on the face)
-  // leaves it at the lower end's surface for both ends: one point, not two.
+  // radius. A capsule standing on the face, tilted so little that the line
+  // through its upper end passes through the lower end's ball (2 half_length
+  // sin(tilt) < r), has both lines leave it through that ball: one ball
+  // against a face touches at one point, so of the points on one end's ball
+  // only the deepest (penetration()'s, the ball's lowest) stays; a capsule
+  // lying on the face keeps its two ends (on different balls, or the side).
   // Cylinders and cones: where the line along -n leaves the core grown by rb
   // (rb / cos of its angle to the core's normal there, less near a rim).
   const Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
   const Vec axis = rel.rotation.col(2);
   const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
+  // The end ball a capsule's witness lies on (beyond that end along the
+  // axis), or -1 (the side; cylinders and cones).
+  const auto end_ball = [&](const Vec& on_b) {
+    if constexpr (std::is_same_v<SB, Capsule>) {
+      const Vec d = s1 - s0;
+      if ((on_b - s0).dot(-d) > tol * d.norm()) return 0;
+      if ((on_b - s1).dot(d) > tol * d.norm()) return 1;
+    }
+    return -1;
+  };
+  std::array<int, kClipCapacity> balls;
   std::size_t kept = 0;
   for (std::size_t i = 0; i < candidates.size; ++i) {
     Candidate x = candidates[i];
@@ -1509,9 +1524,17 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
     x.on_a += ta * n;
     x.on_b -= tb * n;
     x.separation -= ta + tb;
-    bool repeated = false;
-    for (std::size_t k = 0; k < kept; ++k) repeated = repeated || (candidates[k].on_b - x.on_b).norm() <= tol;
-    if (!repeated) candidates[kept++] = x;
+    // The same point, or the same end ball: the deeper stays.
+    const int ball = end_ball(x.on_b);
+    std::size_t same = kept;
+    for (std::size_t k = 0; k < kept && same == kept; ++k)
+      if ((candidates[k].on_b - x.on_b).norm() <= tol || (ball >= 0 && balls[k] == ball)) same = k;
+    if (same < kept) {
+      if (x.separation < candidates[same].separation) candidates[same] = x;
+      continue;
+    }
+    balls[kept] = ball;
+    candidates[kept++] = x;
   }
   candidates.size = kept;
   add_witnesses_if_missed(first, world, settings.penetration.touching_band * scale, candidates);

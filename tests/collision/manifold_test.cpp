@@ -474,6 +474,41 @@ TEST(Manifold, TiltedCapsulePointsLieOnTheCapsule) {
   EXPECT_NEAR(standing.points[0].depth, 0.01, 1e-12);
 }
 
+// A capsule standing on a face, tilted: the lines along the normal through
+// both ends of its segment leave it through the lower end's ball, at two
+// points 2 half_length tilt apart on that ball: one ball against a face
+// touches at one point, and two points that close give a solver only a
+// degenerate lever arm. One point, the ball's lowest: penetration()'s. A
+// capsule lying on the face, tilted as much, keeps its two ends.
+TEST(Manifold, OneEndBallOfAStandingCapsuleGivesOnePoint) {
+  const Shape box = Box{{1.0, 1.0, 0.5}};
+  for (const double margin : {0.0, 0.03}) {
+    const Shape capsule = Capsule{0.3, 0.2, margin};
+    const double r = 0.2 + margin;
+    for (const double tilt : {1e-6, 1e-4, 5e-4, 2e-3, 0.05}) {
+      for (const bool upside_down : {false, true}) {
+        const Vec axis = Vec(1.0, 0.5, 0.0).normalized();
+        const double angle = upside_down ? M_PI - tilt : tilt;
+        // The lower end 0.01 deep.
+        const double lower = 0.3 * std::cos(tilt);
+        const Pose pc = rotated(axis, angle, Vec(0.1, -0.2, 0.5 + r + lower - 0.01));
+        const PenetrationResult exact = penetration(box, Pose::identity(), capsule, pc);
+        const ContactResult c = contact(box, Pose::identity(), capsule, pc);
+        SCOPED_TRACE("margin " + std::to_string(margin) + " tilt " + std::to_string(tilt) +
+                     (upside_down ? " upside down " : " ") + to_string(c.path));
+        ASSERT_EQ(c.count, 1);
+        EXPECT_NEAR(c.points[0].depth, 0.01, 1e-12);
+        EXPECT_NEAR(c.distance, exact.distance, 1e-12);
+        EXPECT_LT((on_b(c.points[0], c) - exact.point_b).norm(), 1e-9);
+      }
+      // Lying, tilted as much: its two ends.
+      const Pose lying = rotated(Vec::UnitY(), M_PI / 2 - tilt, Vec(0.1, 0.0, 0.5 + r + 0.3 * std::sin(tilt) - 0.01));
+      const ContactResult l = contact(box, Pose::identity(), capsule, lying);
+      if (tilt < 1e-3) EXPECT_EQ(l.count, 2) << "lying, tilt " << tilt;
+    }
+  }
+}
+
 TEST(Manifold, RandomHullPairsMatchTheExactDepthAndLieOnBothSurfaces) {
   std::mt19937_64 rng(77);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

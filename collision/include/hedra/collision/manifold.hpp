@@ -41,7 +41,8 @@
 //     when it is within face_angle_tolerance of a face normal of the
 //     polytope the capsule's segment is clipped by that face's side planes
 //     swept along the normal: one or two points (a capsule lying on a face
-//     gets two); otherwise one point. Curved paths keep penetration()'s
+//     gets two; one standing on it, tilted or not, one: the points on one
+//     end's ball are that ball's lowest); otherwise one point. Curved paths keep penetration()'s
 //     normal (the points' depths are gaps along it) and add its witnesses
 //     when every clipped point is shallower than they are.
 //   * a cylinder or cone against a polytope: the penetration normal; when it
