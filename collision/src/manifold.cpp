@@ -92,6 +92,11 @@ class CandidateList {
 struct Ties {
   double depth;
   double length;
+  // Warm queries: the last frame's kept points (null: none) stay kept while
+  // all are still candidates and their deepest is within `hold` of the
+  // deepest candidate.
+  const ContactCache* last = nullptr;
+  double hold = 0.0;
 };
 
 // The first candidate (in the clipped polygon's order) whose value is within
@@ -299,6 +304,36 @@ Index corner_edge(const SatPolytope& poly, const Placement& place, Index f, cons
   return corner;
 }
 
+// The last frame's kept points (ties.last), when every one is still a
+// candidate and the deepest of them is within ties.hold of the deepest
+// candidate: a resting polygon's depths move by 1e-6 to 1e-4 of the size
+// frame to frame with a solver's corrections, and the cold choice (the
+// deepest first) would swap points every few frames. Else the cold choice.
+template <class IdOf>
+int hold_last(const CandidateList& c, const Vec& n, const Ties& ties, const IdOf& id_of,
+              std::array<std::size_t, kMaxContactPoints>& keep, int kept) {
+  const ContactCache& last = *ties.last;
+  if (last.kept_count != kept) return kept;
+  std::array<std::size_t, kMaxContactPoints> held{};
+  int found = 0;
+  double deepest = std::numeric_limits<double>::infinity(), deepest_held = deepest;
+  for (std::size_t i = 0; i < c.size; ++i) {
+    deepest = std::min(deepest, c[i].separation);
+    const FeatureId id = id_of(c[i].on_b, Vec(c[i].on_b - c[i].separation * n));
+    for (int k = 0; k < last.kept_count; ++k)
+      if (last.kept[k] == id && found < kMaxContactPoints) {
+        held[found++] = i;
+        deepest_held = std::min(deepest_held, c[i].separation);
+      }
+  }
+  if (found != kept || !(deepest_held <= deepest + ties.hold)) return kept;
+  // The cold choice's own points: its order (a cold query's answer).
+  int same = 0;
+  for (int k = 0; k < kept; ++k) same += std::count(keep.begin(), keep.begin() + kept, held[k]) > 0;
+  if (same < kept) keep = held;
+  return kept;
+}
+
 // Face contact: reference face `ref_face` of `ref`, incident face searched
 // around inc's support vertex. Candidates' on_a / on_b follow A and B
 // (ref_is_a says which is which). `along` (A's frame, out of ref, unit;
@@ -363,14 +398,9 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
     const double s = (n.dot(src[i]) - offset) / slope;
     if (s <= max_separation) below.push(src[i], src[i], s, FeatureId{});
   }
-  std::array<std::size_t, kMaxContactPoints> keep{};
-  const int kept = reduce(below, u, ties, keep);
-  for (int i = 0; i < kept; ++i) {
-    const Vec p = below[keep[i]].on_b;
-    const double s = below[keep[i]].separation;
-    const Vec on_ref = p - s * u;
-    // Feature id: an incident vertex kept as is, else a crossing of an
-    // incident edge with a side plane, else a corner of the reference face.
+  // Feature id: an incident vertex kept as is, else a crossing of an
+  // incident edge with a side plane, else a corner of the reference face.
+  const auto id_of = [&](const Vec& p, const Vec& on_ref) {
     FeatureId id;
     id.reference_on_b = !ref_is_a;
     id.reference = ref_face;
@@ -414,6 +444,17 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
         id.incident = inc_face;
       }
     }
+    return id;
+  };
+  std::array<std::size_t, kMaxContactPoints> keep{};
+  int kept = reduce(below, u, ties, keep);
+  if (ties.last && below.size > static_cast<std::size_t>(kMaxContactPoints))
+    kept = hold_last(below, u, ties, id_of, keep, kept);
+  for (int i = 0; i < kept; ++i) {
+    const Vec p = below[keep[i]].on_b;
+    const double s = below[keep[i]].separation;
+    const Vec on_ref = p - s * u;
+    const FeatureId id = id_of(p, on_ref);
     if (ref_is_a)
       out.push(on_ref, p, s, id);
     else
@@ -545,12 +586,14 @@ Index face_along(const SatPolytope& poly, const Vec& n, double cos_tol);
 struct PolytopePair {
   SatPolytope pa, pb;
   RelativePose rel;
-  double ra = 0.0, rb = 0.0;  // margins
-  double scale = 0.0;         // the pair's size
-  double keep = 0.0;          // largest separation that yields points (rounded surfaces)
-  double band = 0.0;          // penetration()'s touching band at the pair's size
-  double core_contact = 0.0;  // the same between the cores
-  double shape_scale = 0.0;   // max bounding radius, as single_point measures it
+  double ra = 0.0, rb = 0.0;           // margins
+  double scale = 0.0;                  // the pair's size
+  double keep = 0.0;                   // largest separation that yields points (rounded surfaces)
+  double band = 0.0;                   // penetration()'s touching band at the pair's size
+  const ContactCache* last = nullptr;  // the last frame's kept points (warm queries)
+  double hold = 0.0;                   // how far they may be shallower (ContactSettings::hold)
+  double core_contact = 0.0;           // the same between the cores
+  double shape_scale = 0.0;            // max bounding radius, as single_point measures it
   Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
   Placement placed_b;
 };
@@ -619,7 +662,7 @@ void add_witnesses_if_missed(const ContactResult& first, const WorldFrame& world
 // face too large for the buffers, no point kept).
 bool rounded_face_manifold(const PolytopePair& pp, const WorldFrame& world, const SatAxis& face, const Vec& n,
                            const ContactResult* exact, ContactResult& out) {
-  const Ties ties{pp.band, geometric_tolerance(pp.scale)};
+  const Ties ties{pp.band, geometric_tolerance(pp.scale), pp.last, pp.hold};
   const double ra = pp.ra, rb = pp.rb;
   CandidateList candidates;
   const bool of_a = face.kind == SatAxisKind::face_a;
@@ -777,7 +820,7 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   out.stats = stats;
   CandidateList candidates;
   const double ra = pp.ra, rb = pp.rb;
-  const Ties ties{pp.band, geometric_tolerance(pp.scale)};
+  const Ties ties{pp.band, geometric_tolerance(pp.scale), pp.last, pp.hold};
   const bool rounded = ra + rb > 0.0;
   const double band = settings.penetration.touching_band * pp.scale;
   const bool apart = best.separation > band;  // SAT's separation: a lower bound on the cores' distance
@@ -847,9 +890,11 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   // shallower than the axis by more than the bias allows, or shallower than
   // the pair's exact separation (exact_limit, the cores' when known, with
   // its tolerance: the deepest point is never shallower than the exact
-  // depth).
+  // depth, but for the last frame's points a warm query holds: at most
+  // pp.hold shallower than the deepest candidate).
   const double bias = settings.relative_bias * std::abs(best.separation) + settings.absolute_bias * pp.scale;
-  const double limit = std::min(axis_separation + bias, exact_limit - (shifted ? ra + rb : 0.0));
+  const double held = pp.last ? pp.hold : 0.0;
+  const double limit = std::min(axis_separation + bias, exact_limit - (shifted ? ra + rb : 0.0)) + held;
   const bool deepest_clipped = deepest > limit;
   // A face too large for the fixed buffers, an incident face entirely
   // outside the reference face's side planes, or its deepest vertex outside
@@ -1167,6 +1212,8 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   pp.scale = scale_of(pp.pa, pp.pb) + std::max(pp.ra, pp.rb);
   pp.keep = keep_below(settings, pp.scale);
   pp.band = settings.penetration.touching_band * pp.scale;
+  pp.last = cache;
+  pp.hold = settings.hold * pp.scale;
   pp.core_contact = pp.keep + pp.ra + pp.rb;
   pp.shape_scale = std::max(bounding_radius(shape_a), bounding_radius(shape_b));
   const WorldFrame world{pose_a, core_offset(a)};
@@ -1176,6 +1223,8 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
     if (cache) {
       cache->support_a = pp.pa.hint;
       cache->support_b = pp.pb.hint;
+      cache->kept_count = r.count;
+      for (int k = 0; k < r.count; ++k) cache->kept[k] = r.points[k].id;
     }
     return r;
   };

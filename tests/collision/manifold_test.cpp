@@ -448,6 +448,64 @@ TEST(Manifold, ReductionTiesWithinTheTouchingBandKeepTheSameFourPointsOfAResting
   }
 }
 
+// A solver's corrections move a resting polygon's depths by 1e-6 to 1e-4
+// of the size frame to frame, far beyond any tie to rounding: with the
+// pair's cache the last frame's four points stay while they are all still
+// candidates and their deepest lies within ContactSettings::hold (1e-6 of
+// the size) of the deepest candidate. Depth noise of 5e-7 of the size: the
+// same four ids every frame warm (and the deepest within the hold of the
+// cold one), while the cold choice, or a warm one with hold 0, moves.
+TEST(Manifold, TheCacheHoldsTheLastFramesFourPointsWithinTheHold) {
+  std::vector<Vec> points;
+  const double radius = 0.45, half = 0.15;
+  for (int k = 0; k < 12; ++k) {
+    const double angle = (k % 6) * M_PI / 3.0;
+    points.emplace_back(radius * std::cos(angle), radius * std::sin(angle), k < 6 ? -half : half);
+  }
+  const auto prism = make_hull(points);
+  for (const double margin : {0.0, 0.05}) {
+    const Shape a = Box{Vec(1.0, 1.0, 0.5), margin}, b = Polyhedron{prism, margin};
+    const double size = bounding_radius(a) + bounding_radius(b);
+    for (const double hold : {1e-6, 0.0}) {
+      ContactSettings settings;
+      settings.hold = hold;
+      std::mt19937_64 rng(12);
+      std::uniform_real_distribution<double> u(-1.0, 1.0);
+      ContactCache cache;
+      std::array<FeatureId, kMaxContactPoints> first{};
+      int moved = 0, cold_moved = 0;
+      for (int frame = 0; frame < 200; ++frame) {
+        const double tilt = 5e-7 * size / (2.0 * radius);
+        const Pose pb = rotated(Vec(u(rng), u(rng), 0.0), tilt,
+                                Vec(0.1 + 1e-7 * u(rng), -0.2 + 1e-7 * u(rng), 0.5 + half + 2.0 * margin - 0.01));
+        const ContactResult cold = contact(a, Pose::identity(), b, pb, nullptr, settings);
+        const ContactResult warm = contact(a, Pose::identity(), b, pb, &cache, settings);
+        SCOPED_TRACE("margin " + std::to_string(margin) + " hold " + std::to_string(hold) + " frame " +
+                     std::to_string(frame));
+        ASSERT_EQ(warm.count, 4) << to_string(warm.path) << " cold " << to_string(cold.path) << " " << cold.count
+                                 << " hit " << warm.stats.cache_hit;
+        ASSERT_EQ(cold.count, 4);
+        EXPECT_GE(warm.distance, cold.distance - 1e-12);
+        EXPECT_LE(warm.distance, cold.distance + hold * size);
+        if (frame == 0)
+          for (int k = 0; k < 4; ++k) first[k] = warm.points[k].id;
+        bool warm_same = true, cold_same = true;
+        for (int k = 0; k < 4; ++k) {
+          warm_same = warm_same && has_id(warm, first[k]);
+          cold_same = cold_same && has_id(cold, first[k]);
+        }
+        moved += !warm_same;
+        cold_moved += !cold_same;
+      }
+      if (hold > 0.0)
+        EXPECT_EQ(moved, 0);
+      else
+        EXPECT_GT(moved, 20);
+      EXPECT_GT(cold_moved, 20);
+    }
+  }
+}
+
 // A capsule's surface along a face normal lies r / sin(tilt) from its
 // segment on the side, not r: each point's depth is the gap on its line.
 TEST(Manifold, TiltedCapsulePointsLieOnTheCapsule) {

@@ -191,6 +191,12 @@ struct ContactSettings {
   // (two boxes: 144 pairs, SAT in closed form).
   PolytopeAxisSearch axis_search = PolytopeAxisSearch::automatic;
   double max_sat_edge_pairs = 150.0;
+  // Warm queries (a ContactCache given): a face contact with more than four
+  // candidates keeps the last frame's four points while all four are still
+  // candidates and their deepest lies within this fraction of the pair's size
+  // of the deepest candidate (the deepest point then that much shallower at
+  // most); 0 keeps the cold choice (deepest first) every frame.
+  double hold = 1e-6;
   PenetrationSettings penetration;  // for the paths that use penetration()
 };
 
@@ -203,6 +209,9 @@ struct ContactCache {
   // does not depend on them beyond ties between equal supports).
   hull::Index support_a = 0, support_b = 0;
   hull::Index far_a = 0, far_b = 0;  // the same on the far sides (the certificate's apex)
+  // The last answer's points (ContactSettings::hold).
+  int kept_count = 0;
+  std::array<FeatureId, kMaxContactPoints> kept{};
 };
 
 struct ContactStats {
