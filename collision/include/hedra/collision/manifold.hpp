@@ -27,7 +27,12 @@
 //       band, below) are kept, and
 //       reduced to four: the deepest, the one farthest from it, then the
 //       largest positive and negative signed triangle areas with those two
-//       (the quadrilateral of largest area these choices can reach);
+//       (the quadrilateral of largest area these choices can reach), each
+//       choice the first candidate in the clipped polygon's order within a
+//       tie of the best (depths: the touching band; lengths: 1e-6 of the
+//       size), so a resting polygon's equally deep corners do not swap with
+//       rounding noise; with a cache, the last frame's four while they hold
+//       (ContactSettings::hold, below);
 //       edge contact: one point, the closest points of the two edges (the
 //       exact normal: penetration()'s witnesses, named by the edges at the
 //       support vertices most nearly perpendicular to n).
@@ -101,8 +106,15 @@
 //   * otherwise the full search runs, and a cached reference face of B that
 //     is still B's candidate stays the incumbent (the reference face does
 //     not swap while the same faces touch).
+//   * a face contact with more than four candidates keeps the last frame's
+//     four points (ContactCache::kept) while all are still candidates and
+//     their deepest lies within ContactSettings::hold (1e-6 of the size) of
+//     the deepest candidate: a solver's corrections move a resting polygon's
+//     depths by 1e-6 to 1e-4 of the size a frame, and the cold choice would
+//     swap its points every few frames.
 // Warm answers equal cold ones but for that kept face of B (within the
-// bias) and ties (two axes exact to rounding: the same distance).
+// bias), the held points (the deepest within the hold) and ties (two axes
+// exact to rounding: the same distance).
 // tests/collision/frame_coherence_test.cpp checks it on moving pairs.
 #pragma once
 
