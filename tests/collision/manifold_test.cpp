@@ -406,6 +406,16 @@ TEST(Manifold, RoundedCoresApartWithTheirNormalTiltedOffAFaceKeepTheFaceManifold
   EXPECT_EQ(checked, 2 * tilted);
 }
 
+// A hexagonal prism about z: circumradius `radius`, half height `half`.
+std::shared_ptr<const ConvexPolyhedron> hexagonal_prism(double radius, double half) {
+  std::vector<Vec> points;
+  for (int k = 0; k < 12; ++k) {
+    const double angle = (k % 6) * M_PI / 3.0;
+    points.emplace_back(radius * std::cos(angle), radius * std::sin(angle), k < 6 ? -half : half);
+  }
+  return make_hull(points);
+}
+
 // A hexagonal prism resting on a box clips to six equally deep corners and
 // keeps four. Were the deepest of six equal depths the reduction's anchor,
 // noise of 1e-9 of the size in the depths (a solver's, frame to frame)
@@ -414,13 +424,8 @@ TEST(Manifold, RoundedCoresApartWithTheirNormalTiltedOffAFaceKeepTheFaceManifold
 // polygon's order, so the same four feature ids stay. Sharp and rounded
 // (cores apart), cold and with the pair's cache.
 TEST(Manifold, ReductionTiesWithinTheTouchingBandKeepTheSameFourPointsOfARestingHexagon) {
-  std::vector<Vec> points;
   const double radius = 0.45, half = 0.15;
-  for (int k = 0; k < 12; ++k) {
-    const double angle = (k % 6) * M_PI / 3.0;
-    points.emplace_back(radius * std::cos(angle), radius * std::sin(angle), k < 6 ? -half : half);
-  }
-  const auto prism = make_hull(points);
+  const auto prism = hexagonal_prism(radius, half);
   for (const double margin : {0.0, 0.05}) {
     const Shape a = Box{Vec(1.0, 1.0, 0.5), margin}, b = Polyhedron{prism, margin};
     const double size = bounding_radius(a) + bounding_radius(b);
@@ -456,13 +461,8 @@ TEST(Manifold, ReductionTiesWithinTheTouchingBandKeepTheSameFourPointsOfAResting
 // same four ids every frame warm (and the deepest within the hold of the
 // cold one), while the cold choice, or a warm one with hold 0, moves.
 TEST(Manifold, TheCacheHoldsTheLastFramesFourPointsWithinTheHold) {
-  std::vector<Vec> points;
   const double radius = 0.45, half = 0.15;
-  for (int k = 0; k < 12; ++k) {
-    const double angle = (k % 6) * M_PI / 3.0;
-    points.emplace_back(radius * std::cos(angle), radius * std::sin(angle), k < 6 ? -half : half);
-  }
-  const auto prism = make_hull(points);
+  const auto prism = hexagonal_prism(radius, half);
   for (const double margin : {0.0, 0.05}) {
     const Shape a = Box{Vec(1.0, 1.0, 0.5), margin}, b = Polyhedron{prism, margin};
     const double size = bounding_radius(a) + bounding_radius(b);
