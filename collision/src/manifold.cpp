@@ -86,47 +86,58 @@ class CandidateList {
   alignas(Candidate) unsigned char storage_[sizeof(Candidate) * kClipCapacity];
 };
 
+// What counts as equal in the reduction: depths within `depth` (the
+// touching band: equal to rounding), lengths within `length` (the geometric
+// tolerance, as for the clipping).
+struct Ties {
+  double depth;
+  double length;
+  // Warm queries: the last frame's kept points (null: none) stay kept while
+  // all are still candidates and their deepest is within `hold` of the
+  // deepest candidate.
+  const ContactCache* last = nullptr;
+  double hold = 0.0;
+};
+
+// The first candidate (in the clipped polygon's order) whose value is within
+// `tie` of the largest: a choice that depth or position noise below the tie
+// does not move from one point to another.
+template <class Value>
+std::size_t first_near_largest(const CandidateList& c, double tie, Value value) {
+  double best = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < c.size; ++i) best = std::max(best, value(i));
+  for (std::size_t i = 0; i < c.size; ++i)
+    if (value(i) >= best - tie) return i;
+  return 0;
+}
+
 // Reduction to at most four points (see manifold.hpp): the deepest, the
 // farthest from it, then the largest positive and the largest negative
 // signed areas of the triangle they make with a third point (about n).
-int reduce(const CandidateList& c, const Vec& n, std::array<std::size_t, kMaxContactPoints>& keep) {
+// Each choice takes the first candidate within the ties of the best (a
+// resting hexagon's six equally deep corners, its two equal triangles on
+// each side), so the kept points do not swap with noise in the depths or
+// positions: the deepest kept is at most ties.depth shallower than the
+// deepest candidate.
+int reduce(const CandidateList& c, const Vec& n, const Ties& ties, std::array<std::size_t, kMaxContactPoints>& keep) {
   if (c.size == 0) return 0;
-  std::size_t i0 = 0;
-  for (std::size_t i = 1; i < c.size; ++i)
-    if (c[i].separation < c[i0].separation) i0 = i;
+  const std::size_t i0 = first_near_largest(c, ties.depth, [&](std::size_t i) { return -c[i].separation; });
   keep[0] = i0;
   if (c.size == 1) return 1;
   const Vec p0 = c[i0].on_b;
-  std::size_t i1 = i0;
-  double far = 0.0;
-  for (std::size_t i = 0; i < c.size; ++i) {
-    const double d2 = (c[i].on_b - p0).squaredNorm();
-    if (d2 > far) {
-      far = d2;
-      i1 = i;
-    }
-  }
-  if (i1 == i0) return 1;  // all candidates coincide
+  const std::size_t i1 = first_near_largest(c, ties.length, [&](std::size_t i) { return (c[i].on_b - p0).norm(); });
+  const double far = (c[i1].on_b - p0).squaredNorm();
+  if (!(far > 0.0)) return 1;  // all candidates coincide
   keep[1] = i1;
   const Vec p1 = c[i1].on_b;
-  std::size_t i2 = i0, i3 = i0;
-  double best_pos = 0.0, best_neg = 0.0;
+  const auto area = [&](std::size_t i) { return (p0 - c[i].on_b).cross(p1 - c[i].on_b).dot(n); };
   // Areas below this (relative to the span) add nothing: collinear points.
-  const double min_area = 1e-9 * far;
-  for (std::size_t i = 0; i < c.size; ++i) {
-    const double area = (p0 - c[i].on_b).cross(p1 - c[i].on_b).dot(n);
-    if (area > best_pos) {
-      best_pos = area;
-      i2 = i;
-    }
-    if (area < best_neg) {
-      best_neg = area;
-      i3 = i;
-    }
-  }
+  const double min_area = 1e-9 * far, area_tie = ties.length * std::sqrt(far);
+  const std::size_t i2 = first_near_largest(c, area_tie, area);
+  const std::size_t i3 = first_near_largest(c, area_tie, [&](std::size_t i) { return -area(i); });
   int count = 2;
-  if (best_pos > min_area) keep[count++] = i2;
-  if (-best_neg > min_area) keep[count++] = i3;
+  if (area(i2) > min_area) keep[count++] = i2;
+  if (-area(i3) > min_area) keep[count++] = i3;
   return count;
 }
 
@@ -143,7 +154,7 @@ struct WorldFrame {
 // most max_separation (the contact distance and the touching band),
 // reduces to four and writes the world result.
 void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b, double max_separation,
-          const WorldFrame& world, ContactResult& out) {
+          const Ties& ties, const WorldFrame& world, ContactResult& out) {
   std::size_t kept = 0;
   for (std::size_t i = 0; i < c.size; ++i) {
     Candidate x = c[i];
@@ -163,7 +174,7 @@ void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b,
     for (int k = 1; k < out.count; ++k)
       if (c[keep[k]].separation < c[keep[0]].separation) std::swap(keep[0], keep[k]);
   } else {
-    out.count = reduce(c, normal, keep);
+    out.count = reduce(c, normal, ties, keep);
   }
   out.normal = world.direction(normal);
   for (int k = 0; k < out.count; ++k) {
@@ -293,20 +304,56 @@ Index corner_edge(const SatPolytope& poly, const Placement& place, Index f, cons
   return corner;
 }
 
+// The last frame's kept points (ties.last), when every one is still a
+// candidate and the deepest of them is within ties.hold of the deepest
+// candidate: a resting polygon's depths move by 1e-6 to 1e-4 of the size
+// frame to frame with a solver's corrections, and the cold choice (the
+// deepest first) would swap points every few frames. Else the cold choice.
+template <class IdOf>
+int hold_last(const CandidateList& c, const Vec& n, const Ties& ties, const IdOf& id_of,
+              std::array<std::size_t, kMaxContactPoints>& keep, int kept) {
+  const ContactCache& last = *ties.last;
+  if (last.kept_count != kept) return kept;
+  std::array<std::size_t, kMaxContactPoints> held{};
+  int found = 0;
+  double deepest = std::numeric_limits<double>::infinity(), deepest_held = deepest;
+  for (std::size_t i = 0; i < c.size; ++i) {
+    deepest = std::min(deepest, c[i].separation);
+    const FeatureId id = id_of(c[i].on_b, Vec(c[i].on_b - c[i].separation * n));
+    for (int k = 0; k < last.kept_count; ++k)
+      if (last.kept[k] == id && found < kMaxContactPoints) {
+        held[found++] = i;
+        deepest_held = std::min(deepest_held, c[i].separation);
+      }
+  }
+  if (found != kept || !(deepest_held <= deepest + ties.hold)) return kept;
+  // The cold choice's own points: its order (a cold query's answer).
+  int same = 0;
+  for (int k = 0; k < kept; ++k) same += std::count(keep.begin(), keep.begin() + kept, held[k]) > 0;
+  if (same < kept) keep = held;
+  return kept;
+}
+
 // Face contact: reference face `ref_face` of `ref`, incident face searched
 // around inc's support vertex. Candidates' on_a / on_b follow A and B
-// (ref_is_a says which is which). Returns false when a face is too large for
+// (ref_is_a says which is which). `along` (A's frame, out of ref, unit;
+// null: the face's normal) is the direction the points are measured along:
+// the side planes are swept along it, and each separation is the gap along
+// it from the reference plane. Returns false when a face is too large for
 // the fixed buffers.
 bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatPolytope& inc,
-                  const Placement& inc_place, Index ref_face, bool ref_is_a, double tolerance, double max_separation,
-                  CandidateList& out, int& clipped) {
+                  const Placement& inc_place, Index ref_face, bool ref_is_a, const Ties& ties, double max_separation,
+                  CandidateList& out, int& clipped, const Vec* along = nullptr) {
+  const double tolerance = ties.length;
   const hull::HalfEdgeMesh& rm = *ref.mesh;
   const hull::HalfEdgeMesh& im = *inc.mesh;
   const hull::Plane& rp = ref.plane(ref_face);
   const Vec n = ref_place.direction(rp.normal);  // A's frame, out of ref
+  const Vec u = along ? *along : n;              // the sweep
+  const double slope = along ? n.dot(u) : 1.0;   // within the angle tolerance of 1
   const Vec ref_point = ref_place.point(ref.vertex(rm.origin(rm.faces[ref_face].edge)));
   const double offset = n.dot(ref_point);
-  const Index inc_face = incident_face(inc, inc_place, n);
+  const Index inc_face = incident_face(inc, inc_place, u);
   if (inc_face == hull::kInvalidIndex) return false;
   const std::size_t inc_degree = im.face_degree(inc_face), ref_degree = rm.face_degree(ref_face);
   if (inc_degree + ref_degree > kClipCapacity) return false;
@@ -330,7 +377,7 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
   for (const Index e : rm.face_edges(ref_face)) {
     const Vec p0 = ref_place.point(ref.vertex(rm.origin(e)));
     const Vec p1 = ref_place.point(ref.vertex(rm.destination(e)));
-    const Vec side = (p1 - p0).cross(n).normalized();
+    const Vec side = (p1 - p0).cross(u).normalized();
     side_edges[side_count] = e;
     sides.set(side_count++, hull::Plane{side, side.dot(p0)});
   }
@@ -348,17 +395,12 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
   CandidateList below;
   clipped = static_cast<int>(count);
   for (std::size_t i = 0; i < count; ++i) {
-    const double s = n.dot(src[i]) - offset;
+    const double s = (n.dot(src[i]) - offset) / slope;
     if (s <= max_separation) below.push(src[i], src[i], s, FeatureId{});
   }
-  std::array<std::size_t, kMaxContactPoints> keep{};
-  const int kept = reduce(below, n, keep);
-  for (int i = 0; i < kept; ++i) {
-    const Vec p = below[keep[i]].on_b;
-    const double s = below[keep[i]].separation;
-    const Vec on_ref = p - s * n;
-    // Feature id: an incident vertex kept as is, else a crossing of an
-    // incident edge with a side plane, else a corner of the reference face.
+  // Feature id: an incident vertex kept as is, else a crossing of an
+  // incident edge with a side plane, else a corner of the reference face.
+  const auto id_of = [&](const Vec& p, const Vec& on_ref) {
     FeatureId id;
     id.reference_on_b = !ref_is_a;
     id.reference = ref_face;
@@ -402,6 +444,17 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
         id.incident = inc_face;
       }
     }
+    return id;
+  };
+  std::array<std::size_t, kMaxContactPoints> keep{};
+  int kept = reduce(below, u, ties, keep);
+  if (ties.last && below.size > static_cast<std::size_t>(kMaxContactPoints))
+    kept = hold_last(below, u, ties, id_of, keep, kept);
+  for (int i = 0; i < kept; ++i) {
+    const Vec p = below[keep[i]].on_b;
+    const double s = below[keep[i]].separation;
+    const Vec on_ref = p - s * u;
+    const FeatureId id = id_of(p, on_ref);
     if (ref_is_a)
       out.push(on_ref, p, s, id);
     else
@@ -426,6 +479,27 @@ void round_candidates(CandidateList& c, const Vec& nf, bool ref_is_a, double r_r
     on_ref += r_ref * nf;
     on_inc -= t * nf;
     x.separation -= r_ref + t;
+  }
+}
+
+// The same along a normal `along` tilted off the reference face's normal
+// (A's frame, out of the reference; the points from face_contact swept
+// along it): the reference side moves by its exit along `along` from the
+// reference core grown by r_ref (r_ref / cos of the tilt inside the face,
+// less near its edges, exactly r_ref where `along` is in the core's normal
+// cone), the incident side by its exit along -along.
+void round_along(CandidateList& c, const Vec& along, bool ref_is_a, const SatPolytope& ref, const Placement& ref_place,
+                 Index ref_face, double r_ref, const SatPolytope& inc, const Placement& inc_place, Index inc_face,
+                 double r_inc) {
+  for (std::size_t i = 0; i < c.size; ++i) {
+    Candidate& x = c[i];
+    Vec& on_ref = ref_is_a ? x.on_a : x.on_b;
+    Vec& on_inc = ref_is_a ? x.on_b : x.on_a;
+    const double t_ref = r_ref > 0.0 ? exit_distance(ref, ref_place, ref_face, on_ref, along, r_ref) : 0.0;
+    const double t_inc = r_inc > 0.0 ? exit_distance(inc, inc_place, inc_face, on_inc, -along, r_inc) : 0.0;
+    on_ref += t_ref * along;
+    on_inc -= t_inc * along;
+    x.separation -= t_ref + t_inc;
   }
 }
 
@@ -486,11 +560,6 @@ double scale_of(const SatPolytope& a, const SatPolytope& b) { return std::max(a.
 // price: kept points may lie that far outside the reference face.
 double geometric_tolerance(double scale) { return 1e-6 * scale; }
 
-// GJK's normal of separated cores within this angle (radians) of a face
-// normal is that face's normal (closest features face-vertex, face-edge or
-// face-face; GJK's direction error is ~eps scale / distance).
-constexpr double kExactNormalAngle = 1e-6;
-
 // The largest separation that still yields points: the contact distance
 // plus the touching band of penetration() (a fraction of the pair's size).
 // Touching surfaces are 0 apart only up to rounding: SAT's separation, a
@@ -517,11 +586,14 @@ Index face_along(const SatPolytope& poly, const Vec& n, double cos_tol);
 struct PolytopePair {
   SatPolytope pa, pb;
   RelativePose rel;
-  double ra = 0.0, rb = 0.0;  // margins
-  double scale = 0.0;         // the pair's size
-  double keep = 0.0;          // largest separation that yields points (rounded surfaces)
-  double core_contact = 0.0;  // the same between the cores
-  double shape_scale = 0.0;   // max bounding radius, as single_point measures it
+  double ra = 0.0, rb = 0.0;           // margins
+  double scale = 0.0;                  // the pair's size
+  double keep = 0.0;                   // largest separation that yields points (rounded surfaces)
+  double band = 0.0;                   // penetration()'s touching band at the pair's size
+  const ContactCache* last = nullptr;  // the last frame's kept points (warm queries)
+  double hold = 0.0;                   // how far they may be shallower (ContactSettings::hold)
+  double core_contact = 0.0;           // the same between the cores
+  double shape_scale = 0.0;            // max bounding radius, as single_point measures it
   Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
   Placement placed_b;
 };
@@ -549,25 +621,30 @@ Index edge_across(const SatPolytope& poly, const Vec& n) {
 // within the contact distance; sharp ones within it whose SAT contact is not
 // exact, see build_manifold): SAT's axes only bound the cores' distance,
 // so the manifold is built around the exact normal n of the cores' closest
-// features (penetration()'s, GJK on the cores). When n is a face normal of
-// A or of B (closest features face-vertex, face-edge or face-face), that
-// face is the reference and the points are the clipped incident face with
-// exact rounded depths; otherwise the closest features are a vertex or an
-// edge on each side and the contact is penetration()'s single point.
+// features (penetration()'s, GJK on the cores). When n is within the face
+// angle tolerance of a face normal of A or of B (closest features
+// face-vertex, face-edge or face-face, or a face's edge or corner against a
+// part of the other shape overhanging it: n tilted off the face), that face
+// is the reference: the incident face is clipped by its side planes swept
+// along n, and every point's depth is the exact gap of the rounded surfaces
+// along n (core gap less both exits), so the deepest is penetration()'s
+// (its witnesses added where n's own error clips them away). Otherwise the
+// closest features are a vertex or an edge on each side and the contact is
+// penetration()'s single point.
 
-// The face for the exact normal n (A's frame, A -> B): A's within
-// kExactNormalAngle of n, else B's; kind none when neither.
-SatAxis rounded_face_along(const PolytopePair& pp, const Vec& n) {
-  const double cos_exact = std::cos(kExactNormalAngle);
+// The face for the exact normal n (A's frame, A -> B): A's within the face
+// angle tolerance of n, else B's; kind none when neither.
+SatAxis rounded_face_along(const PolytopePair& pp, const Vec& n, const ContactSettings& settings) {
+  const double cos_tol = std::cos(settings.face_angle_tolerance);
   SatAxis axis;
-  const Index fa = face_along(pp.pa, n, cos_exact);
+  const Index fa = face_along(pp.pa, n, cos_tol);
   if (fa != hull::kInvalidIndex) {
     axis.kind = SatAxisKind::face_a;
     axis.feature_a = fa;
     axis.normal = pp.pa.plane(fa).normal;
     return axis;
   }
-  const Index fb = face_along(pp.pb, pp.rel.rotation.transpose() * -n, cos_exact);
+  const Index fb = face_along(pp.pb, pp.rel.rotation.transpose() * -n, cos_tol);
   if (fb != hull::kInvalidIndex) {
     axis.kind = SatAxisKind::face_b;
     axis.feature_b = fb;
@@ -576,43 +653,49 @@ SatAxis rounded_face_along(const PolytopePair& pp, const Vec& n) {
   return axis;
 }
 
-// That face's manifold with exact rounded depths; false when it has none
-// (a face too large for the buffers, no point kept).
-bool rounded_face_manifold(const PolytopePair& pp, const WorldFrame& world, const SatAxis& face, ContactResult& out) {
-  const double tol = geometric_tolerance(pp.scale);
+void add_witnesses_if_missed(const ContactResult& first, const WorldFrame& world, double slack, CandidateList& c);
+
+// That face's manifold along the exact normal n (A's frame, A -> B) with
+// exact rounded depths; `exact`: penetration()'s point (world), added when
+// every clipped point is shallower (null when n is the face's normal and
+// the closest points lie inside the face). False when the face has none (a
+// face too large for the buffers, no point kept).
+bool rounded_face_manifold(const PolytopePair& pp, const WorldFrame& world, const SatAxis& face, const Vec& n,
+                           const ContactResult* exact, ContactResult& out) {
+  const Ties ties{pp.band, geometric_tolerance(pp.scale), pp.last, pp.hold};
   const double ra = pp.ra, rb = pp.rb;
   CandidateList candidates;
-  const Vec& normal = face.normal;
-  if (face.kind == SatAxisKind::face_a) {
-    out.path = ContactPath::face_a;
-    if (!face_contact(pp.pa, pp.identity, pp.pb, pp.placed_b, face.feature_a, true, tol, pp.keep + ra + rb, candidates,
-                      out.stats.clipped_points))
-      return false;
-    round_candidates(candidates, normal, true, ra, pp.pb, pp.placed_b, incident_face(pp.pb, pp.placed_b, normal), rb);
-  } else {
-    out.path = ContactPath::face_b;
-    const Vec nb = -normal;  // out of B, A's frame
-    if (!face_contact(pp.pb, pp.placed_b, pp.pa, pp.identity, face.feature_b, false, tol, pp.keep + ra + rb, candidates,
-                      out.stats.clipped_points))
-      return false;
-    round_candidates(candidates, nb, false, rb, pp.pa, pp.identity, incident_face(pp.pa, pp.identity, nb), ra);
-  }
-  emit(candidates, normal, 0.0, 0.0, pp.keep, world, out);
+  const bool of_a = face.kind == SatAxisKind::face_a;
+  const Vec along = of_a ? n : Vec(-n);  // out of the reference
+  const SatPolytope& ref = of_a ? pp.pa : pp.pb;
+  const SatPolytope& inc = of_a ? pp.pb : pp.pa;
+  const Placement& ref_place = of_a ? pp.identity : pp.placed_b;
+  const Placement& inc_place = of_a ? pp.placed_b : pp.identity;
+  const Index ref_face = of_a ? face.feature_a : face.feature_b;
+  out.path = of_a ? ContactPath::face_a : ContactPath::face_b;
+  if (!face_contact(ref, ref_place, inc, inc_place, ref_face, of_a, ties, pp.keep + ra + rb, candidates,
+                    out.stats.clipped_points, &along))
+    return false;
+  round_along(candidates, along, of_a, ref, ref_place, ref_face, of_a ? ra : rb, inc, inc_place,
+              incident_face(inc, inc_place, along), of_a ? rb : ra);
+  if (exact) add_witnesses_if_missed(*exact, world, pp.band, candidates);
+  emit(candidates, n, 0.0, 0.0, pp.keep, ties, world, out);
   return out.count > 0;
 }
 
 // `single`: penetration()'s answer. `used`: the axis the manifold stands on
 // (the face, or the edges at the support vertices: the next frame's cache).
 ContactResult rounded_cores_apart(const PolytopePair& pp, const Pose& pose_a, const WorldFrame& world,
-                                  const ContactResult& single, const ContactStats& stats, SatAxis& used) {
+                                  const ContactResult& single, const ContactStats& stats,
+                                  const ContactSettings& settings, SatAxis& used) {
   used = SatAxis{};
   if (single.count == 0 || single.status != Status::ok) return single;
   const Vec n = pose_a.rotation.transpose() * single.normal;  // A's core frame, A -> B
-  used = rounded_face_along(pp, n);
+  used = rounded_face_along(pp, n, settings);
   if (used.kind != SatAxisKind::none) {
     ContactResult out;
     out.stats = stats;
-    if (rounded_face_manifold(pp, world, used, out)) return out;
+    if (rounded_face_manifold(pp, world, used, n, &single, out)) return out;
   } else {
     used.kind = SatAxisKind::edge;
     used.feature_a = edge_across(pp.pa, n);
@@ -629,9 +712,12 @@ ContactResult rounded_cores_apart(const PolytopePair& pp, const Pose& pose_a, co
 // cold query would do otherwise (then it runs).
 bool rounded_apart_from_cache(const PolytopePair& pp, const WorldFrame& world, const SatAxis& axis,
                               const ContactSettings& settings, ContactResult& out) {
-  const SatAxis face = rounded_face_along(pp, axis.normal);
-  if (face.kind != SatAxisKind::none) return rounded_face_manifold(pp, world, face, out);
-  if (axis.kind != SatAxisKind::edge) return false;
+  const SatAxis face = rounded_face_along(pp, axis.normal, settings);
+  if (axis.kind != SatAxisKind::edge) {
+    // A face axis certified exact: its normal is the cores', their closest
+    // points inside the face.
+    return face.kind != SatAxisKind::none && rounded_face_manifold(pp, world, face, axis.normal, nullptr, out);
+  }
   const hull::HalfEdgeMesh& ma = *pp.pa.mesh;
   const hull::HalfEdgeMesh& mb = *pp.pb.mesh;
   const Vec a0 = pp.pa.vertex(ma.origin(axis.feature_a)), a1 = pp.pa.vertex(ma.destination(axis.feature_a));
@@ -645,7 +731,10 @@ bool rounded_apart_from_cache(const PolytopePair& pp, const WorldFrame& world, c
   p.point_a = world.point(on_a + pp.ra * axis.normal);
   p.point_b = world.point(on_b - pp.rb * axis.normal);
   const ContactStats stats = out.stats;
-  out = penetration_point(p, pp.shape_scale, settings);
+  const ContactResult single = penetration_point(p, pp.shape_scale, settings);
+  out.stats = stats;
+  if (face.kind != SatAxisKind::none) return rounded_face_manifold(pp, world, face, axis.normal, &single, out);
+  out = single;
   out.stats = stats;
   return true;
 }
@@ -731,7 +820,7 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   out.stats = stats;
   CandidateList candidates;
   const double ra = pp.ra, rb = pp.rb;
-  const double tol = geometric_tolerance(pp.scale);
+  const Ties ties{pp.band, geometric_tolerance(pp.scale), pp.last, pp.hold};
   const bool rounded = ra + rb > 0.0;
   const double band = settings.penetration.touching_band * pp.scale;
   const bool apart = best.separation > band;  // SAT's separation: a lower bound on the cores' distance
@@ -739,13 +828,13 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   bool built = false;
   if (best.kind == SatAxisKind::face_a) {
     out.path = ContactPath::face_a;
-    built = face_contact(pp.pa, pp.identity, pp.pb, pp.placed_b, best.feature_a, true, tol, pp.core_contact, candidates,
-                         out.stats.clipped_points);
+    built = face_contact(pp.pa, pp.identity, pp.pb, pp.placed_b, best.feature_a, true, ties, pp.core_contact,
+                         candidates, out.stats.clipped_points);
     if (built && rounded)
       round_candidates(candidates, normal, true, ra, pp.pb, pp.placed_b, incident_face(pp.pb, pp.placed_b, normal), rb);
   } else if (best.kind == SatAxisKind::face_b) {
     out.path = ContactPath::face_b;
-    built = face_contact(pp.pb, pp.placed_b, pp.pa, pp.identity, best.feature_b, false, tol, pp.core_contact,
+    built = face_contact(pp.pb, pp.placed_b, pp.pa, pp.identity, best.feature_b, false, ties, pp.core_contact,
                          candidates, out.stats.clipped_points);
     if (built && rounded)
       round_candidates(candidates, -normal, false, rb, pp.pa, pp.identity, incident_face(pp.pa, pp.identity, -normal),
@@ -792,7 +881,7 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   // rounded cores.
   if (apart && built && candidates.size > 0 && deepest > axis_separation + band) {
     SatAxis used;
-    const ContactResult r = rounded_cores_apart(pp, pose_a, world, fallback(), stats, used);
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, fallback(), stats, settings, used);
     remember(cache, used);
     return r;
   }
@@ -801,15 +890,17 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   // shallower than the axis by more than the bias allows, or shallower than
   // the pair's exact separation (exact_limit, the cores' when known, with
   // its tolerance: the deepest point is never shallower than the exact
-  // depth).
+  // depth, but for the last frame's points a warm query holds: at most
+  // pp.hold shallower than the deepest candidate).
   const double bias = settings.relative_bias * std::abs(best.separation) + settings.absolute_bias * pp.scale;
-  const double limit = std::min(axis_separation + bias, exact_limit - (shifted ? ra + rb : 0.0));
+  const double held = pp.last ? pp.hold : 0.0;
+  const double limit = std::min(axis_separation + bias, exact_limit - (shifted ? ra + rb : 0.0)) + held;
   const bool deepest_clipped = deepest > limit;
   // A face too large for the fixed buffers, an incident face entirely
   // outside the reference face's side planes, or its deepest vertex outside
   // them: one point from penetration().
   if (!built || candidates.size == 0 || deepest_clipped) return fallback();
-  emit(candidates, normal, shifted ? 0.0 : ra, shifted ? 0.0 : rb, pp.keep, world, out);
+  emit(candidates, normal, shifted ? 0.0 : ra, shifted ? 0.0 : rb, pp.keep, ties, world, out);
   if (out.count == 0) {
     // Nothing within the contact distance after clipping (a gap along the
     // chosen axis beyond it): report the axis.
@@ -979,7 +1070,7 @@ ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Sha
   if (pp.ra + pp.rb > 0.0 && best.separation > settings.penetration.touching_band * pp.scale) {
     const ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
     SatAxis used;
-    const ContactResult r = rounded_cores_apart(pp, pose_a, world, single, stats, used);
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, single, stats, settings, used);
     remember(cache, used);
     return r;
   }
@@ -1020,7 +1111,7 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   const double s_exact = p.distance + pp.ra + pp.rb;  // between the cores
   if (pp.ra + pp.rb > 0.0 && s_exact > settings.penetration.touching_band * pp.scale) {
     SatAxis used;
-    const ContactResult r = rounded_cores_apart(pp, pose_a, world, exact, ContactStats{}, used);
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, exact, ContactStats{}, settings, used);
     remember(cache, used);
     return r;
   }
@@ -1078,7 +1169,7 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
   if (pp.ra + pp.rb > 0.0 && axis.separation > 0.0) {
     if (!(axis.separation > band)) return false;
     if (!rounded_apart_from_cache(pp, world, axis, settings, out)) return false;
-    remember(cache, axis.kind == SatAxisKind::edge ? axis : rounded_face_along(pp, axis.normal));
+    remember(cache, axis.kind == SatAxisKind::edge ? axis : rounded_face_along(pp, axis.normal, settings));
     return true;
   }
   if (axis.kind != SatAxisKind::edge) {
@@ -1120,6 +1211,9 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   pp.rb = core_radius(b);
   pp.scale = scale_of(pp.pa, pp.pb) + std::max(pp.ra, pp.rb);
   pp.keep = keep_below(settings, pp.scale);
+  pp.band = settings.penetration.touching_band * pp.scale;
+  pp.last = cache;
+  pp.hold = settings.hold * pp.scale;
   pp.core_contact = pp.keep + pp.ra + pp.rb;
   pp.shape_scale = std::max(bounding_radius(shape_a), bounding_radius(shape_b));
   const WorldFrame world{pose_a, core_offset(a)};
@@ -1129,6 +1223,8 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
     if (cache) {
       cache->support_a = pp.pa.hint;
       cache->support_b = pp.pb.hint;
+      cache->kept_count = r.count;
+      for (int k = 0; k < r.count; ++k) cache->kept[k] = r.points[k].id;
     }
     return r;
   };
@@ -1443,13 +1539,28 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
   // by ra (ra / cos of the tilt off the face, less near its edges). A
   // capsule is round about its segment: each point's exit along -n from the
   // segment (r / sin of the tilt on the side, less near an end), not the
-  // radius; a line through the segment (a capsule standing on the face)
-  // leaves it at the lower end's surface for both ends: one point, not two.
+  // radius. A capsule standing on the face, tilted so little that the line
+  // through its upper end passes through the lower end's ball (2 half_length
+  // sin(tilt) < r), has both lines leave it through that ball: one ball
+  // against a face touches at one point, so of the points on one end's ball
+  // only the deepest (penetration()'s, the ball's lowest) stays; a capsule
+  // lying on the face keeps its two ends (on different balls, or the side).
   // Cylinders and cones: where the line along -n leaves the core grown by rb
   // (rb / cos of its angle to the core's normal there, less near a rim).
   const Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
   const Vec axis = rel.rotation.col(2);
   const Vec s0 = rel.translation - b.half_length * axis, s1 = rel.translation + b.half_length * axis;
+  // The end ball a capsule's witness lies on (beyond that end along the
+  // axis), or -1 (the side; cylinders and cones).
+  const auto end_ball = [&](const Vec& on_b) {
+    if constexpr (std::is_same_v<SB, Capsule>) {
+      const Vec d = s1 - s0;
+      if ((on_b - s0).dot(-d) > tol * d.norm()) return 0;
+      if ((on_b - s1).dot(d) > tol * d.norm()) return 1;
+    }
+    return -1;
+  };
+  std::array<int, kClipCapacity> balls;
   std::size_t kept = 0;
   for (std::size_t i = 0; i < candidates.size; ++i) {
     Candidate x = candidates[i];
@@ -1462,13 +1573,22 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
     x.on_a += ta * n;
     x.on_b -= tb * n;
     x.separation -= ta + tb;
-    bool repeated = false;
-    for (std::size_t k = 0; k < kept; ++k) repeated = repeated || (candidates[k].on_b - x.on_b).norm() <= tol;
-    if (!repeated) candidates[kept++] = x;
+    // The same point, or the same end ball: the deeper stays.
+    const int ball = end_ball(x.on_b);
+    std::size_t same = kept;
+    for (std::size_t k = 0; k < kept && same == kept; ++k)
+      if ((candidates[k].on_b - x.on_b).norm() <= tol || (ball >= 0 && balls[k] == ball)) same = k;
+    if (same < kept) {
+      if (x.separation < candidates[same].separation) candidates[same] = x;
+      continue;
+    }
+    balls[kept] = ball;
+    candidates[kept++] = x;
   }
   candidates.size = kept;
   add_witnesses_if_missed(first, world, settings.penetration.touching_band * scale, candidates);
-  emit(candidates, n, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), world, out);
+  const Ties ties{settings.penetration.touching_band * scale, tol};
+  emit(candidates, n, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), ties, world, out);
   if (out.count == 0) return first;
   return out;
 }

@@ -1,10 +1,12 @@
-// Property test of contact() over twenty-one seeded pair families (random
+// Property test of contact() over twenty-three seeded pair families (random
 // hulls of 8 to 64 vertices, boxes, rounded boxes and hulls with margins of
 // 2 % to 10 % of the size, spheres, capsules, cylinders and cones, sharp and
 // rounded, against polytopes, 150 random poses each; and cones standing or
 // lying on a box's face, tilted by up to 5e-4 rad, 75 each, so that their
 // cap and side-line paths run; rounded cylinders the same way, often hanging
-// over the face's edge), each pair penetrating
+// over the face's edge; and rounded boxes and hulls resting tilted on a
+// rounded box with their lowest corner just inside or just beyond its edge,
+// where the cores' exact normal is tilted off the faces), each pair penetrating
 // or brought to touching (B moved along penetration()'s normal by its
 // distance). For every pair:
 //   * status ok and at least one point;
@@ -168,6 +170,36 @@ std::vector<Pair> make_pairs(int per_family) {
     pairs.push_back({box, c, Pose::identity(), Pose::from_quaternion(q, t),
                      lying ? "rounded_cylinder_lying_on_box" : "rounded_cylinder_on_box"});
   }
+  // Rounded boxes and hulls resting on a rounded box's top face, tilted by
+  // 1e-4 to 1e-3 rad (a hull on one of its faces), their lowest core
+  // corner placed within the gap times the tilt of the face's +x edge, on
+  // either side: the cores apart, their closest features a face and a
+  // corner (the exact normal the face's) or an edge and a corner hanging
+  // beyond it (the exact normal tilted off both faces), 1e-3 to 2e-2 deep.
+  std::uniform_real_distribution<double> rest_tilt(1e-4, 1e-3), share(-0.5, 0.5), rest_depth(1e-3, 2e-2);
+  for (int i = 0; i < per_family; ++i) {
+    const Shape ground = random_box(rng, margin(rng));
+    const Box& g = std::get<Box>(ground);
+    const bool hull = i % 2 == 1;
+    const Shape body = hull ? random_hull(rng, margin(rng)) : random_box(rng, margin(rng));
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    if (hull) {  // a random face of the hull down
+      const ConvexPolyhedron& h = *std::get<Polyhedron>(body).hull;
+      const hull::Index f = std::uniform_int_distribution<hull::Index>(0, h.mesh().face_count() - 1)(rng);
+      q = Eigen::Quaterniond::FromTwoVectors(h.mesh().plane(f).normal, -Vec::UnitZ());
+    }
+    const Vec level = random_unit(rng).cross(Vec::UnitZ()).normalized();
+    const double theta = rest_tilt(rng);
+    q = Eigen::Quaterniond(Eigen::AngleAxisd(theta, level)) * q;
+    const double mb = hull ? std::get<Polyhedron>(body).margin : std::get<Box>(body).margin;
+    const Vec down = q.inverse() * -Vec::UnitZ();
+    const Vec lowest = q * (support(body, down) - mb * down);
+    const double gap = g.margin + mb - rest_depth(rng);
+    const Vec corner(g.half_extents.x() + share(rng) * gap * theta, offset(rng) * g.half_extents.y(),
+                     g.half_extents.z() + gap);
+    pairs.push_back({ground, body, Pose::identity(), Pose::from_quaternion(q, corner - lowest),
+                     hull ? "rounded_hull_over_an_edge" : "rounded_box_over_an_edge"});
+  }
   return pairs;
 }
 
@@ -176,6 +208,7 @@ struct Worst {
   int pairs = 0, touching = 0, failures = 0, biased = 0;
   int cap = 0, segment = 0;  // cones' caps and side lines on a face
   int cylinder_cap = 0, cylinder_segment = 0;
+  int resting = 0, resting_face = 0;  // rounded bodies over an edge; on a face path
 };
 
 void check_pair(const Pair& p, const std::string& kind, Worst& worst, const ContactSettings& settings = {}) {
@@ -192,6 +225,10 @@ void check_pair(const Pair& p, const std::string& kind, Worst& worst, const Cont
   if (std::holds_alternative<Cone>(p.b)) {
     worst.cap += c.path == ContactPath::cap;
     worst.segment += c.path == ContactPath::segment;
+  }
+  if (p.family.find("_over_an_edge") != std::string::npos) {
+    ++worst.resting;
+    worst.resting_face += c.path == ContactPath::face_a || c.path == ContactPath::face_b;
   }
   SCOPED_TRACE(p.family + " " + kind + " pen " + std::to_string(pen.distance) + " path " + to_string(c.path));
   EXPECT_EQ(c.status, Status::ok);
@@ -251,6 +288,9 @@ TEST(ContactProperty, PenetratingAndTouchingPairsGetExactPoints) {
               worst.cylinder_segment);
   EXPECT_GT(worst.cylinder_cap, 100);
   EXPECT_GT(worst.cylinder_segment, 100);
+  std::printf("rounded bodies resting over an edge %d, on a face path %d\n", worst.resting, worst.resting_face);
+  EXPECT_GT(worst.resting, 250);
+  EXPECT_GT(worst.resting_face, 0.95 * worst.resting);
 }
 
 // Within the contact distance: each pair moved apart along penetration()'s

@@ -343,6 +343,169 @@ TEST(Manifold, RoundedDepthsFollowTheCoresClosestFeaturesAndTheRoundedSurfaces) 
   }
 }
 
+// Rounded cores apart whose closest features are a face's edge or corner
+// and a vertex of the other core hanging just beyond it (a tilted rounded
+// box resting over a rounded box's edge or corner): the exact normal is
+// tilted off both faces by the overhang over the gap (1e-5 to 7e-4 rad
+// here), not a face normal. Within the face angle tolerance the face
+// manifold is built along that exact normal (side planes swept along it),
+// every point's depth the exact gap of the rounded surfaces on its line and
+// the deepest exactly penetration()'s, in both orders.
+TEST(Manifold, RoundedCoresApartWithTheirNormalTiltedOffAFaceKeepTheFaceManifoldAlongTheExactNormal) {
+  const Vec half_a(1.0, 1.0, 0.5), half_b(0.3, 0.25, 0.3);
+  const double ma = 0.05, mb = 0.04;
+  const Shape a = Box{half_a, ma}, b = Box{half_b, mb};
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> tilt(1e-4, 1.5e-3), share(0.05, 0.45), depth(1e-3, 2e-2), along(-0.5, 0.5);
+  int tilted = 0, checked = 0;
+  for (int i = 0; i < 100; ++i) {
+    // The +x side down (about y), a little about x: a +x corner lowest.
+    const double theta = tilt(rng);
+    const Eigen::Quaterniond q = Eigen::Quaterniond(Eigen::AngleAxisd(theta, Vec::UnitY())) *
+                                 Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * along(rng) * theta, Vec::UnitX()));
+    Vec lowest = q * half_b;
+    for (int c = 0; c < 8; ++c) {
+      const Vec v =
+          q * Vec(c & 1 ? half_b.x() : -half_b.x(), c & 2 ? half_b.y() : -half_b.y(), c & 4 ? half_b.z() : -half_b.z());
+      if (v.z() < lowest.z()) lowest = v;
+    }
+    // That corner beyond A's +x edge (or, one in two, its +x+y corner) by
+    // less than the gap times the tilt, so that no face holds the closest
+    // points.
+    const double gap = ma + mb - depth(rng);
+    const double beyond = share(rng) * gap * theta;
+    const Vec corner(half_a.x() + beyond, i % 2 ? half_a.y() + beyond : along(rng), half_a.z() + gap);
+    const Pose pa = Pose::identity(), pb = Pose::from_quaternion(q, corner - lowest);
+    const PenetrationResult exact = penetration(a, pa, b, pb);
+    ASSERT_EQ(exact.status, Status::ok);
+    const double off_face = std::acos(std::min(1.0, exact.normal.z()));
+    if (!(off_face > 1e-6 && off_face < 1e-3)) continue;
+    ++tilted;
+    for (const bool swapped : {false, true}) {
+      const ContactResult r = swapped ? contact(b, pb, a, pa) : contact(a, pa, b, pb);
+      SCOPED_TRACE(std::to_string(i) + (swapped ? " swapped " : " ") + to_string(r.path));
+      ASSERT_EQ(r.status, Status::ok);
+      EXPECT_TRUE(r.path == ContactPath::face_a || r.path == ContactPath::face_b);
+      EXPECT_GE(r.count, 2);
+      EXPECT_LT((r.normal - (swapped ? -exact.normal : exact.normal)).norm(), 1e-9);
+      // Deeper only by the clipping tolerance's reach (1e-6 beyond a side plane).
+      EXPECT_NEAR(r.distance, exact.distance, 1e-10);
+      double deepest = -INFINITY;
+      for (int k = 0; k < r.count; ++k) {
+        const Vec pa_k = on_a(r.points[k], r), pb_k = on_b(r.points[k], r);
+        EXPECT_NEAR(box_distance(swapped ? half_b : half_a, swapped ? pb : pa, pa_k) - (swapped ? mb : ma), 0.0, 1e-10);
+        EXPECT_NEAR(box_distance(swapped ? half_a : half_b, swapped ? pa : pb, pb_k) - (swapped ? ma : mb), 0.0, 1e-10);
+        deepest = std::max(deepest, r.points[k].depth);
+      }
+      EXPECT_GE(deepest, -exact.distance - 1e-12);
+      EXPECT_LE(deepest, -exact.distance + 1e-10);
+      ++checked;
+    }
+  }
+  EXPECT_GT(tilted, 80);
+  EXPECT_EQ(checked, 2 * tilted);
+}
+
+// A hexagonal prism about z: circumradius `radius`, half height `half`.
+std::shared_ptr<const ConvexPolyhedron> hexagonal_prism(double radius, double half) {
+  std::vector<Vec> points;
+  for (int k = 0; k < 12; ++k) {
+    const double angle = (k % 6) * M_PI / 3.0;
+    points.emplace_back(radius * std::cos(angle), radius * std::sin(angle), k < 6 ? -half : half);
+  }
+  return make_hull(points);
+}
+
+// A hexagonal prism resting on a box clips to six equally deep corners and
+// keeps four. Were the deepest of six equal depths the reduction's anchor,
+// noise of 1e-9 of the size in the depths (a solver's, frame to frame)
+// would pick another corner, and another four, every frame: depths within
+// the touching band tie, and ties go to the first candidate in the clipped
+// polygon's order, so the same four feature ids stay. Sharp and rounded
+// (cores apart), cold and with the pair's cache.
+TEST(Manifold, ReductionTiesWithinTheTouchingBandKeepTheSameFourPointsOfARestingHexagon) {
+  const double radius = 0.45, half = 0.15;
+  const auto prism = hexagonal_prism(radius, half);
+  for (const double margin : {0.0, 0.05}) {
+    const Shape a = Box{Vec(1.0, 1.0, 0.5), margin}, b = Polyhedron{prism, margin};
+    const double size = bounding_radius(a) + bounding_radius(b);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (const bool cached : {false, true}) {
+      ContactCache cache;
+      std::array<FeatureId, kMaxContactPoints> first{};
+      for (int frame = 0; frame < 200; ++frame) {
+        // Depths across the hexagon (2 radius wide) vary by up to 1e-9 of the size.
+        const double tilt = 0.5e-9 * size / (2.0 * radius);
+        const Vec axis(u(rng), u(rng), 0.0);
+        const Vec at(0.1 + 1e-9 * u(rng), -0.2 + 1e-9 * u(rng),
+                     0.5 + half + 2.0 * margin - 0.01 + 1e-9 * size * u(rng));
+        const ContactResult r = contact(a, Pose::identity(), b, rotated(axis, tilt, at), cached ? &cache : nullptr);
+        SCOPED_TRACE("margin " + std::to_string(margin) + (cached ? " cached" : " cold") + " frame " +
+                     std::to_string(frame) + " " + to_string(r.path));
+        ASSERT_EQ(r.count, 4);
+        EXPECT_NEAR(r.distance, -0.01, 2e-9 * size);
+        if (frame == 0)
+          for (int k = 0; k < 4; ++k) first[k] = r.points[k].id;
+        for (int k = 0; k < 4; ++k) EXPECT_TRUE(has_id(r, first[k])) << "point " << k << " of the first frame";
+      }
+    }
+  }
+}
+
+// A solver's corrections move a resting polygon's depths by 1e-6 to 1e-4
+// of the size frame to frame, far beyond any tie to rounding: with the
+// pair's cache the last frame's four points stay while they are all still
+// candidates and their deepest lies within ContactSettings::hold (1e-6 of
+// the size) of the deepest candidate. Depth noise of 5e-7 of the size: the
+// same four ids every frame warm (and the deepest within the hold of the
+// cold one), while the cold choice, or a warm one with hold 0, moves.
+TEST(Manifold, TheCacheHoldsTheLastFramesFourPointsWithinTheHold) {
+  const double radius = 0.45, half = 0.15;
+  const auto prism = hexagonal_prism(radius, half);
+  for (const double margin : {0.0, 0.05}) {
+    const Shape a = Box{Vec(1.0, 1.0, 0.5), margin}, b = Polyhedron{prism, margin};
+    const double size = bounding_radius(a) + bounding_radius(b);
+    for (const double hold : {1e-6, 0.0}) {
+      ContactSettings settings;
+      settings.hold = hold;
+      std::mt19937_64 rng(12);
+      std::uniform_real_distribution<double> u(-1.0, 1.0);
+      ContactCache cache;
+      std::array<FeatureId, kMaxContactPoints> first{};
+      int moved = 0, cold_moved = 0;
+      for (int frame = 0; frame < 200; ++frame) {
+        const double tilt = 5e-7 * size / (2.0 * radius);
+        const Pose pb = rotated(Vec(u(rng), u(rng), 0.0), tilt,
+                                Vec(0.1 + 1e-7 * u(rng), -0.2 + 1e-7 * u(rng), 0.5 + half + 2.0 * margin - 0.01));
+        const ContactResult cold = contact(a, Pose::identity(), b, pb, nullptr, settings);
+        const ContactResult warm = contact(a, Pose::identity(), b, pb, &cache, settings);
+        SCOPED_TRACE("margin " + std::to_string(margin) + " hold " + std::to_string(hold) + " frame " +
+                     std::to_string(frame));
+        ASSERT_EQ(warm.count, 4) << to_string(warm.path) << " cold " << to_string(cold.path) << " " << cold.count
+                                 << " hit " << warm.stats.cache_hit;
+        ASSERT_EQ(cold.count, 4);
+        EXPECT_GE(warm.distance, cold.distance - 1e-12);
+        EXPECT_LE(warm.distance, cold.distance + hold * size);
+        if (frame == 0)
+          for (int k = 0; k < 4; ++k) first[k] = warm.points[k].id;
+        bool warm_same = true, cold_same = true;
+        for (int k = 0; k < 4; ++k) {
+          warm_same = warm_same && has_id(warm, first[k]);
+          cold_same = cold_same && has_id(cold, first[k]);
+        }
+        moved += !warm_same;
+        cold_moved += !cold_same;
+      }
+      if (hold > 0.0)
+        EXPECT_EQ(moved, 0);
+      else
+        EXPECT_GT(moved, 20);
+      EXPECT_GT(cold_moved, 20);
+    }
+  }
+}
+
 // A capsule's surface along a face normal lies r / sin(tilt) from its
 // segment on the side, not r: each point's depth is the gap on its line.
 TEST(Manifold, TiltedCapsulePointsLieOnTheCapsule) {
@@ -367,6 +530,41 @@ TEST(Manifold, TiltedCapsulePointsLieOnTheCapsule) {
   const ContactResult standing = contact(box, Pose::identity(), capsule, Pose::from_translation({0.1, 0.0, 1.19}));
   ASSERT_EQ(standing.count, 1);
   EXPECT_NEAR(standing.points[0].depth, 0.01, 1e-12);
+}
+
+// A capsule standing on a face, tilted: the lines along the normal through
+// both ends of its segment leave it through the lower end's ball, at two
+// points 2 half_length tilt apart on that ball: one ball against a face
+// touches at one point, and two points that close give a solver only a
+// degenerate lever arm. One point, the ball's lowest: penetration()'s. A
+// capsule lying on the face, tilted as much, keeps its two ends.
+TEST(Manifold, OneEndBallOfAStandingCapsuleGivesOnePoint) {
+  const Shape box = Box{{1.0, 1.0, 0.5}};
+  for (const double margin : {0.0, 0.03}) {
+    const Shape capsule = Capsule{0.3, 0.2, margin};
+    const double r = 0.2 + margin;
+    for (const double tilt : {1e-6, 1e-4, 5e-4, 2e-3, 0.05}) {
+      for (const bool upside_down : {false, true}) {
+        const Vec axis = Vec(1.0, 0.5, 0.0).normalized();
+        const double angle = upside_down ? M_PI - tilt : tilt;
+        // The lower end 0.01 deep.
+        const double lower = 0.3 * std::cos(tilt);
+        const Pose pc = rotated(axis, angle, Vec(0.1, -0.2, 0.5 + r + lower - 0.01));
+        const PenetrationResult exact = penetration(box, Pose::identity(), capsule, pc);
+        const ContactResult c = contact(box, Pose::identity(), capsule, pc);
+        SCOPED_TRACE("margin " + std::to_string(margin) + " tilt " + std::to_string(tilt) +
+                     (upside_down ? " upside down " : " ") + to_string(c.path));
+        ASSERT_EQ(c.count, 1);
+        EXPECT_NEAR(c.points[0].depth, 0.01, 1e-12);
+        EXPECT_NEAR(c.distance, exact.distance, 1e-12);
+        EXPECT_LT((on_b(c.points[0], c) - exact.point_b).norm(), 1e-9);
+      }
+      // Lying, tilted as much: its two ends.
+      const Pose lying = rotated(Vec::UnitY(), M_PI / 2 - tilt, Vec(0.1, 0.0, 0.5 + r + 0.3 * std::sin(tilt) - 0.01));
+      const ContactResult l = contact(box, Pose::identity(), capsule, lying);
+      if (tilt < 1e-3) EXPECT_EQ(l.count, 2) << "lying, tilt " << tilt;
+    }
+  }
 }
 
 TEST(Manifold, RandomHullPairsMatchTheExactDepthAndLieOnBothSurfaces) {

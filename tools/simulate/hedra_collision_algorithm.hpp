@@ -32,6 +32,7 @@
 
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <LinearMath/btPoolAllocator.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <hedra/collision/manifold.hpp>
@@ -102,7 +103,14 @@ class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
     btCollisionAlgorithm* CreateCollisionAlgorithm(btCollisionAlgorithmConstructionInfo& ci,
                                                    const btCollisionObjectWrapper* a,
                                                    const btCollisionObjectWrapper* b) override {
-      void* memory = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(HedraCollisionAlgorithm));
+      // Bullet's pool hands out elements of its largest built-in algorithm's
+      // size and ignores the size asked for in release builds: beyond it,
+      // allocate beside the pool (the dispatcher frees either kind).
+      auto* dispatcher = static_cast<btCollisionDispatcher*>(ci.m_dispatcher1);
+      const int pool = dispatcher->getCollisionConfiguration()->getCollisionAlgorithmPool()->getElementSize();
+      void* memory = sizeof(HedraCollisionAlgorithm) <= static_cast<std::size_t>(pool)
+                         ? dispatcher->allocateCollisionAlgorithm(sizeof(HedraCollisionAlgorithm))
+                         : btAlignedAlloc(sizeof(HedraCollisionAlgorithm), 16);
       return new (memory) HedraCollisionAlgorithm(ci, a, b, shapes, update);
     }
   };

@@ -27,7 +27,12 @@
 //       band, below) are kept, and
 //       reduced to four: the deepest, the one farthest from it, then the
 //       largest positive and negative signed triangle areas with those two
-//       (the quadrilateral of largest area these choices can reach);
+//       (the quadrilateral of largest area these choices can reach), each
+//       choice the first candidate in the clipped polygon's order within a
+//       tie of the best (depths: the touching band; lengths: 1e-6 of the
+//       size), so a resting polygon's equally deep corners do not swap with
+//       rounding noise; with a cache, the last frame's four while they hold
+//       (ContactSettings::hold, below);
 //       edge contact: one point, the closest points of the two edges (the
 //       exact normal: penetration()'s witnesses, named by the edges at the
 //       support vertices most nearly perpendicular to n).
@@ -41,7 +46,8 @@
 //     when it is within face_angle_tolerance of a face normal of the
 //     polytope the capsule's segment is clipped by that face's side planes
 //     swept along the normal: one or two points (a capsule lying on a face
-//     gets two); otherwise one point. Curved paths keep penetration()'s
+//     gets two; one standing on it, tilted or not, one: the points on one
+//     end's ball are that ball's lowest); otherwise one point. Curved paths keep penetration()'s
 //     normal (the points' depths are gaps along it) and add its witnesses
 //     when every clipped point is shallower than they are.
 //   * a cylinder or cone against a polytope: the penetration normal; when it
@@ -62,9 +68,14 @@
 // of the face; the incident side where the line leaves the incident core
 // grown by its radius: r / cos(tilt) off a tilted face). Cores apart
 // (rounded or sharp, within the contact distance): SAT only bounds their
-// distance, so the manifold follows GJK's normal of the cores (a face
-// contact when it is a face normal of A or B within 1e-6 rad, else
-// penetration()'s point). A face contact whose kept points are
+// distance, so the manifold follows the exact normal n of the cores (GJK's):
+// when n is within face_angle_tolerance of a face normal of A or B (a face
+// against the other's face, edge or corner, or an edge or corner of the face
+// against a part hanging beyond it: n tilted), a face contact with n as its
+// normal: the incident face clipped by the reference face's side planes
+// swept along n, each point's depth the gap of the rounded surfaces on its
+// line along n (both sides' exits from their grown cores), the deepest
+// penetration()'s; otherwise penetration()'s point. A face contact whose kept points are
 // shallower than its axis by more than the bias (the deepest incident
 // vertex clipped away) is penetration()'s point too.
 //
@@ -95,8 +106,15 @@
 //   * otherwise the full search runs, and a cached reference face of B that
 //     is still B's candidate stays the incumbent (the reference face does
 //     not swap while the same faces touch).
+//   * a face contact with more than four candidates keeps the last frame's
+//     four points (ContactCache::kept) while all are still candidates and
+//     their deepest lies within ContactSettings::hold (1e-6 of the size) of
+//     the deepest candidate: a solver's corrections move a resting polygon's
+//     depths by 1e-6 to 1e-4 of the size a frame, and the cold choice would
+//     swap its points every few frames.
 // Warm answers equal cold ones but for that kept face of B (within the
-// bias) and ties (two axes exact to rounding: the same distance).
+// bias), the held points (the deepest within the hold) and ties (two axes
+// exact to rounding: the same distance).
 // tests/collision/frame_coherence_test.cpp checks it on moving pairs.
 #pragma once
 
@@ -185,6 +203,12 @@ struct ContactSettings {
   // (two boxes: 144 pairs, SAT in closed form).
   PolytopeAxisSearch axis_search = PolytopeAxisSearch::automatic;
   double max_sat_edge_pairs = 150.0;
+  // Warm queries (a ContactCache given): a face contact with more than four
+  // candidates keeps the last frame's four points while all four are still
+  // candidates and their deepest lies within this fraction of the pair's size
+  // of the deepest candidate (the deepest point then that much shallower at
+  // most); 0 keeps the cold choice (deepest first) every frame.
+  double hold = 1e-6;
   PenetrationSettings penetration;  // for the paths that use penetration()
 };
 
@@ -197,6 +221,9 @@ struct ContactCache {
   // does not depend on them beyond ties between equal supports).
   hull::Index support_a = 0, support_b = 0;
   hull::Index far_a = 0, far_b = 0;  // the same on the far sides (the certificate's apex)
+  // The last answer's points (ContactSettings::hold).
+  int kept_count = 0;
+  std::array<FeatureId, kMaxContactPoints> kept{};
 };
 
 struct ContactStats {
