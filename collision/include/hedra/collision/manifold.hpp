@@ -108,10 +108,11 @@
 //     not swap while the same faces touch).
 //   * a face contact with more than four candidates keeps the last frame's
 //     four points (ContactCache::kept) while all are still candidates and
-//     their deepest lies within ContactSettings::hold (1e-6 of the size) of
-//     the deepest candidate: a solver's corrections move a resting polygon's
-//     depths by 1e-6 to 1e-4 of the size a frame, and the cold choice would
-//     swap its points every few frames.
+//     their deepest lies within ContactSettings::hold (a fraction of the
+//     size; 0 by default, a simulator sets about 1e-6) of the deepest
+//     candidate: a solver's corrections move a resting polygon's depths by
+//     1e-6 to 1e-4 of the size a frame, and the cold choice would swap its
+//     points every few frames.
 // Warm answers equal cold ones but for that kept face of B (within the
 // bias), the held points (the deepest within the hold) and ties (two axes
 // exact to rounding: the same distance).
@@ -207,8 +208,10 @@ struct ContactSettings {
   // candidates keeps the last frame's four points while all four are still
   // candidates and their deepest lies within this fraction of the pair's size
   // of the deepest candidate (the deepest point then that much shallower at
-  // most); 0 keeps the cold choice (deepest first) every frame.
-  double hold = 1e-6;
+  // most); 0 (the default: warm answers equal cold ones) keeps the cold
+  // choice (deepest first) every frame. A simulator that wants resting
+  // points to stay put sets about 1e-6 (tools/simulate does).
+  double hold = 0.0;
   PenetrationSettings penetration;  // for the paths that use penetration()
 };
 
