@@ -124,6 +124,27 @@ ShapeValidation validate(const Shape& s) {
   return std::visit([](const auto& shape) { return validate(shape); }, s);
 }
 
+namespace {
+
+// check_size() and check_margin() as one comparison: NaN and infinities fail.
+bool in_range(double value) { return value >= 0.0 && value <= max_shape_size; }
+
+bool is_valid_shape(const Sphere& s) { return in_range(s.radius) && in_range(s.margin); }
+bool is_valid_shape(const Box& s) {
+  return in_range(s.half_extents.x()) && in_range(s.half_extents.y()) && in_range(s.half_extents.z()) &&
+         in_range(s.margin);
+}
+bool is_valid_shape(const Capsule& s) { return in_range(s.half_length) && in_range(s.radius) && in_range(s.margin); }
+bool is_valid_shape(const Cylinder& s) { return in_range(s.half_length) && in_range(s.radius) && in_range(s.margin); }
+bool is_valid_shape(const Cone& s) { return in_range(s.half_length) && in_range(s.radius) && in_range(s.margin); }
+bool is_valid_shape(const Polyhedron& s) { return s.hull != nullptr && in_range(s.margin); }
+
+}  // namespace
+
+bool is_valid(const Shape& s) {
+  return std::visit([](const auto& shape) { return is_valid_shape(shape); }, s);
+}
+
 double bounding_radius(const Sphere& s) { return s.radius + s.margin; }
 double bounding_radius(const Box& s) { return s.half_extents.norm() + s.margin; }
 double bounding_radius(const Capsule& s) { return s.half_length + s.radius + s.margin; }

@@ -152,6 +152,9 @@ ShapeValidation validate(const Cylinder& s);
 ShapeValidation validate(const Cone& s);
 ShapeValidation validate(const Polyhedron& s);
 ShapeValidation validate(const Shape& s);
+// validate(s).ok() without building a message: what queries check on every
+// call (no allocation, a few comparisons).
+bool is_valid(const Shape& s);
 
 // Radius of a ball around the local origin holding the whole shape (margin
 // included). For a polyhedron the ball is centred on offset() instead, the
