@@ -209,6 +209,14 @@ ConvexPolyhedron::BuildResult ConvexPolyhedron::build(const std::vector<Eigen::V
     radius = std::max(radius, mesh.position(v).norm());
   }
   poly->bounding_radius_ = radius;
+  poly->blocks_.resize((n + 3) / 4);
+  for (std::size_t i = 0; i < 4 * poly->blocks_.size(); ++i) {
+    const Eigen::Vector3d& x = poly->vertices_[i < n ? i : 0];
+    ConvexPolyhedron::VertexBlock& block = poly->blocks_[i / 4];
+    block.x[i % 4] = x.x();
+    block.y[i % 4] = x.y();
+    block.z[i % 4] = x.z();
+  }
   poly->dimension_ = mesh.dimension();
   // Point and segment hulls have no edges: empty rows.
   poly->neighbors_.reserve(mesh.half_edge_count());

@@ -118,6 +118,15 @@ class ConvexPolyhedron {
   // hulls, whose meshes have no edges).
   const hull::Index* neighbors_begin(hull::Index i) const { return neighbors_.data() + neighbor_offsets_[i]; }
   const hull::Index* neighbors_end(hull::Index i) const { return neighbors_.data() + neighbor_offsets_[i + 1]; }
+  // The vertices again in blocks of four, each coordinate apart (the
+  // layout of the vectorised support scan, support.hpp); the last block is
+  // padded with copies of vertex 0, which never beat vertex 0 itself.
+  struct alignas(32) VertexBlock {
+    double x[4];
+    double y[4];
+    double z[4];
+  };
+  const std::vector<VertexBlock>& vertex_blocks() const { return blocks_; }
   // The half-edge mesh, recentred like vertex() (same vertex indices).
   const hull::HalfEdgeMesh& mesh() const { return mesh_; }
   int dimension() const { return dimension_; }
@@ -129,6 +138,7 @@ class ConvexPolyhedron {
 
   Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> vertices_;
+  std::vector<VertexBlock> blocks_;
   std::vector<std::uint32_t> neighbor_offsets_;  // vertex_count() + 1 entries
   std::vector<hull::Index> neighbors_;
   hull::HalfEdgeMesh mesh_;

@@ -37,12 +37,17 @@
 #include <hedra/collision/vector_math.hpp>
 #include <limits>
 
+#if defined(__SSE2__)
+#  include <emmintrin.h>
+#endif
+
 namespace hedra::collision {
 
 inline constexpr std::size_t kHillClimbCrossover = 32;
 
-// Index of a vertex maximising d . vertex(i); the first such vertex.
-inline hull::Index polyhedron_support_scan(const ConvexPolyhedron& poly, const Eigen::Vector3d& d) {
+// The first index of a vertex maximising d . vertex(i), one vertex at a
+// time: the reference the vectorised scan below must agree with.
+inline hull::Index polyhedron_support_scan_serial(const ConvexPolyhedron& poly, const Eigen::Vector3d& d) {
   const Eigen::Vector3d* v = poly.vertices().data();
   const std::size_t n = poly.vertex_count();
   hull::Index best = 0;
@@ -55,6 +60,64 @@ inline hull::Index polyhedron_support_scan(const ConvexPolyhedron& poly, const E
     }
   }
   return best;
+}
+
+// The same index, four vertices at a time over vertex_blocks(): lane k keeps
+// the first maximiser among indices = k (mod 4), with the values computed in
+// dot3's order (the same bits); the lanes then compare by value, ties to the
+// smaller index, which is the first maximiser overall. Lane 0 starts at
+// vertex 0 and the others at -infinity, so NaN values are skipped as in the
+// serial scan, and a NaN at vertex 0 (nothing compares greater) answers 0
+// as it does. Padding copies vertex 0: equal to it, never before it. SSE2
+// (baseline on x86_64) when the compiler offers it, plain lanes otherwise.
+inline hull::Index polyhedron_support_scan(const ConvexPolyhedron& poly, const Eigen::Vector3d& d) {
+  const double first = dot3(d, poly.vertex(0));
+  if (std::isnan(first)) return 0;
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  alignas(16) double value[4] = {first, kNone, kNone, kNone};
+  alignas(16) double index[4] = {0.0, 1.0, 2.0, 3.0};
+#if defined(__SSE2__)
+  const __m128d dx = _mm_set1_pd(d.x()), dy = _mm_set1_pd(d.y()), dz = _mm_set1_pd(d.z());
+  const __m128d step = _mm_set1_pd(4.0);
+  __m128d best_lo = _mm_load_pd(value), best_hi = _mm_load_pd(value + 2);
+  __m128d index_lo = _mm_load_pd(index), index_hi = _mm_load_pd(index + 2);
+  __m128d at_lo = index_lo, at_hi = index_hi;
+  for (const ConvexPolyhedron::VertexBlock& b : poly.vertex_blocks()) {
+    const __m128d v_lo = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, _mm_load_pd(b.x)), _mm_mul_pd(dy, _mm_load_pd(b.y))),
+                                    _mm_mul_pd(dz, _mm_load_pd(b.z)));
+    const __m128d v_hi =
+        _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, _mm_load_pd(b.x + 2)), _mm_mul_pd(dy, _mm_load_pd(b.y + 2))),
+                   _mm_mul_pd(dz, _mm_load_pd(b.z + 2)));
+    const __m128d up_lo = _mm_cmpgt_pd(v_lo, best_lo), up_hi = _mm_cmpgt_pd(v_hi, best_hi);
+    // maxpd(v, best) is v > best ? v : best (best on ties and NaN).
+    best_lo = _mm_max_pd(v_lo, best_lo);
+    best_hi = _mm_max_pd(v_hi, best_hi);
+    index_lo = _mm_or_pd(_mm_and_pd(up_lo, at_lo), _mm_andnot_pd(up_lo, index_lo));
+    index_hi = _mm_or_pd(_mm_and_pd(up_hi, at_hi), _mm_andnot_pd(up_hi, index_hi));
+    at_lo = _mm_add_pd(at_lo, step);
+    at_hi = _mm_add_pd(at_hi, step);
+  }
+  _mm_store_pd(value, best_lo);
+  _mm_store_pd(value + 2, best_hi);
+  _mm_store_pd(index, index_lo);
+  _mm_store_pd(index + 2, index_hi);
+#else
+  double at = 0.0;
+  for (const ConvexPolyhedron::VertexBlock& b : poly.vertex_blocks()) {
+    for (int k = 0; k < 4; ++k) {
+      const double v = (d.x() * b.x[k] + d.y() * b.y[k]) + d.z() * b.z[k];
+      if (v > value[k]) {
+        value[k] = v;
+        index[k] = at + k;
+      }
+    }
+    at += 4.0;
+  }
+#endif
+  int best = 0;
+  for (int k = 1; k < 4; ++k)
+    if (value[k] > value[best] || (value[k] == value[best] && index[k] < index[best])) best = k;
+  return static_cast<hull::Index>(index[best]);
 }
 
 // Steepest-ascent hill-climbing from `start` (any vertex index; out of range
