@@ -192,6 +192,22 @@ TEST(PolyhedronSupport, DispatchAndHintOnLargeHull) {
   }
 }
 
+// Large solid hulls keep extreme vertices of a few fixed directions; a climb
+// without a hint starts from the best of them, one with a hint from the
+// better of the two. Either way it must end on a maximiser.
+TEST(PolyhedronSupport, ClimbFromStartVerticesOnLargeHulls) {
+  std::mt19937_64 rng(31);
+  const auto poly = make_hull(random_ball_points(rng, 3000, true));
+  ASSERT_GE(poly->vertex_count(), ConvexPolyhedron::kStartMinVertices);
+  ASSERT_EQ(poly->start_blocks().size(), ConvexPolyhedron::kStartDirections / 4);
+  const auto small = make_hull(random_ball_points(rng, 100, true));
+  EXPECT_TRUE(small->start_blocks().empty());
+  std::vector<hull::Index> starts = {hull::kInvalidIndex, 0, 1};
+  ClimbStats stats;
+  check_climb(*poly, directions_for(*poly, rng, 300), starts, stats);
+  EXPECT_EQ(stats.exact, stats.checks);
+}
+
 // The vectorised scan walks the vertices in four lanes and padded blocks:
 // it must give the serial scan's index (the first maximiser) bit for bit,
 // ties, a zero direction, infinities and NaN included, for every count

@@ -127,6 +127,15 @@ class ConvexPolyhedron {
     double z[4];
   };
   const std::vector<VertexBlock>& vertex_blocks() const { return blocks_; }
+  // Start vertices for a hill-climb without a hint (large solid hulls
+  // only, empty otherwise): the extreme vertices of kStartDirections
+  // directions spread over the sphere, in the same blocks (padded with the
+  // first), and their indices. A climb from the best of them walks a few
+  // steps instead of across the hull.
+  static constexpr std::size_t kStartDirections = 32;
+  static constexpr std::size_t kStartMinVertices = 256;
+  const std::vector<VertexBlock>& start_blocks() const { return start_blocks_; }
+  hull::Index start_vertex(std::size_t position) const { return start_ids_[position]; }
   // The half-edge mesh, recentred like vertex() (same vertex indices).
   const hull::HalfEdgeMesh& mesh() const { return mesh_; }
   int dimension() const { return dimension_; }
@@ -135,10 +144,14 @@ class ConvexPolyhedron {
 
  private:
   ConvexPolyhedron() = default;
+  // vertex_blocks() and the start vertices, from vertices_.
+  void build_blocks();
 
   Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<VertexBlock> blocks_;
+  std::vector<VertexBlock> start_blocks_;
+  std::vector<hull::Index> start_ids_;
   std::vector<std::uint32_t> neighbor_offsets_;  // vertex_count() + 1 entries
   std::vector<hull::Index> neighbors_;
   hull::HalfEdgeMesh mesh_;
