@@ -77,8 +77,7 @@ void place_in_world(Result& out, const Eigen::Vector3d& offset_a, const Pose& po
 }
 
 bool inputs_valid(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
-  return pose_a.valid() && pose_b.valid() && validate(a).ok() && validate(b).ok() &&
-         pair_in_range(a, pose_a, b, pose_b);
+  return pose_a.valid() && pose_b.valid() && is_valid(a) && is_valid(b) && pair_in_range(a, pose_a, b, pose_b);
 }
 
 // Everything a query needs, typed: both cores, B's core in A's core frame,

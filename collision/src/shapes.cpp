@@ -124,6 +124,27 @@ ShapeValidation validate(const Shape& s) {
   return std::visit([](const auto& shape) { return validate(shape); }, s);
 }
 
+namespace {
+
+// check_size() and check_margin() as one comparison: NaN and infinities fail.
+bool in_range(double value) { return value >= 0.0 && value <= max_shape_size; }
+
+bool is_valid_shape(const Sphere& s) { return in_range(s.radius) && in_range(s.margin); }
+bool is_valid_shape(const Box& s) {
+  return in_range(s.half_extents.x()) && in_range(s.half_extents.y()) && in_range(s.half_extents.z()) &&
+         in_range(s.margin);
+}
+bool is_valid_shape(const Capsule& s) { return in_range(s.half_length) && in_range(s.radius) && in_range(s.margin); }
+bool is_valid_shape(const Cylinder& s) { return in_range(s.half_length) && in_range(s.radius) && in_range(s.margin); }
+bool is_valid_shape(const Cone& s) { return in_range(s.half_length) && in_range(s.radius) && in_range(s.margin); }
+bool is_valid_shape(const Polyhedron& s) { return s.hull != nullptr && in_range(s.margin); }
+
+}  // namespace
+
+bool is_valid(const Shape& s) {
+  return std::visit([](const auto& shape) { return is_valid_shape(shape); }, s);
+}
+
 double bounding_radius(const Sphere& s) { return s.radius + s.margin; }
 double bounding_radius(const Box& s) { return s.half_extents.norm() + s.margin; }
 double bounding_radius(const Capsule& s) { return s.half_length + s.radius + s.margin; }
@@ -132,6 +153,48 @@ double bounding_radius(const Cone& s) { return std::hypot(s.radius, s.half_lengt
 double bounding_radius(const Polyhedron& s) { return (s.hull ? s.hull->bounding_radius() : 0.0) + s.margin; }
 double bounding_radius(const Shape& s) {
   return std::visit([](const auto& shape) { return bounding_radius(shape); }, s);
+}
+
+namespace {
+
+// Points `ids[0 .. count)` of `points` into blocks of four, the last padded
+// with points[pad].
+void append_blocks(const std::vector<Eigen::Vector3d>& points, const hull::Index* ids, std::size_t count,
+                   hull::Index pad, std::vector<ConvexPolyhedron::VertexBlock>& out) {
+  for (std::size_t i = 0; i < count || i % 4 != 0; ++i) {
+    if (i % 4 == 0) out.emplace_back();
+    const Eigen::Vector3d& x = points[i < count ? ids[i] : pad];
+    out.back().x[i % 4] = x.x();
+    out.back().y[i % 4] = x.y();
+    out.back().z[i % 4] = x.z();
+  }
+}
+
+}  // namespace
+
+void ConvexPolyhedron::build_blocks() {
+  const std::size_t n = vertices_.size();
+  std::vector<hull::Index> all(n);
+  for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<hull::Index>(i);
+  blocks_.clear();
+  append_blocks(vertices_, all.data(), n, 0, blocks_);
+  start_blocks_.clear();
+  start_ids_.clear();
+  if (n < kStartMinVertices || dimension_ < 3) return;
+  // Directions on a Fibonacci spiral: z evenly spaced, longitude turning by
+  // the golden angle.
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (std::size_t k = 0; k < kStartDirections; ++k) {
+    const double z = 1.0 - (2.0 * static_cast<double>(k) + 1.0) / static_cast<double>(kStartDirections);
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const double phi = golden * static_cast<double>(k);
+    const Eigen::Vector3d d(r * std::cos(phi), r * std::sin(phi), z);
+    hull::Index best = 0;
+    for (std::size_t i = 1; i < n; ++i)
+      if (d.dot(vertices_[i]) > d.dot(vertices_[best])) best = static_cast<hull::Index>(i);
+    start_ids_.push_back(best);
+  }
+  append_blocks(vertices_, start_ids_.data(), start_ids_.size(), start_ids_[0], start_blocks_);
 }
 
 ConvexPolyhedron::BuildResult ConvexPolyhedron::build(const std::vector<Eigen::Vector3d>& points,
@@ -197,6 +260,7 @@ ConvexPolyhedron::BuildResult ConvexPolyhedron::build(const std::vector<Eigen::V
     }
     poly->neighbor_offsets_[v + 1] = static_cast<std::uint32_t>(poly->neighbors_.size());
   }
+  poly->build_blocks();
   result.polyhedron = std::move(poly);
   return result;
 }

@@ -192,6 +192,56 @@ TEST(PolyhedronSupport, DispatchAndHintOnLargeHull) {
   }
 }
 
+// Large solid hulls keep extreme vertices of a few fixed directions; a climb
+// without a hint starts from the best of them, one with a hint from the
+// better of the two. Either way it must end on a maximiser.
+TEST(PolyhedronSupport, ClimbFromStartVerticesOnLargeHulls) {
+  std::mt19937_64 rng(31);
+  const auto poly = make_hull(random_ball_points(rng, 3000, true));
+  ASSERT_GE(poly->vertex_count(), ConvexPolyhedron::kStartMinVertices);
+  ASSERT_EQ(poly->start_blocks().size(), ConvexPolyhedron::kStartDirections / 4);
+  const auto small = make_hull(random_ball_points(rng, 100, true));
+  EXPECT_TRUE(small->start_blocks().empty());
+  std::vector<hull::Index> starts = {hull::kInvalidIndex, 0, 1};
+  ClimbStats stats;
+  check_climb(*poly, directions_for(*poly, rng, 300), starts, stats);
+  EXPECT_EQ(stats.exact, stats.checks);
+}
+
+// The vectorised scan walks the vertices in four lanes and padded blocks:
+// it must give the serial scan's index (the first maximiser) bit for bit,
+// ties, a zero direction, infinities and NaN included, for every count
+// modulo 4 (padding).
+TEST(PolyhedronSupport, BlockScanIsTheFirstMaximiserLikeTheSerialScan) {
+  std::mt19937_64 rng(29);
+  std::vector<std::vector<Eigen::Vector3d>> inputs = {gridded_box({1.0, 2.0, 3.0}, 2), {Eigen::Vector3d(1, 2, 3)}};
+  inputs.push_back({Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0)});
+  for (int n : {3, 4, 5, 6, 7, 8, 9, 17, 64}) inputs.push_back(prism(n, 1.0, 0.5));
+  for (int n : {4, 5, 6, 7, 30, 31, 33, 100}) inputs.push_back(random_ball_points(rng, n, true));
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  long checks = 0;
+  for (const auto& points : inputs) {
+    const auto poly = make_hull(points);
+    ASSERT_TRUE(poly);
+    ASSERT_EQ(poly->vertex_blocks().size(), (poly->vertex_count() + 3) / 4);
+    std::vector<Eigen::Vector3d> dirs = directions_for(*poly, rng, 50);
+    for (int a = 0; a < 3; ++a) {
+      dirs.push_back(inf * Eigen::Vector3d::Unit(a));
+      dirs.push_back(-inf * Eigen::Vector3d::Unit(a));
+      dirs.push_back(nan * Eigen::Vector3d::Unit(a));
+    }
+    dirs.push_back(Eigen::Vector3d::Zero());
+    dirs.push_back(Eigen::Vector3d(nan, nan, nan));
+    dirs.push_back(Eigen::Vector3d(inf, -inf, 1.0));
+    for (const Eigen::Vector3d& d : dirs) {
+      ASSERT_EQ(polyhedron_support_scan(*poly, d), polyhedron_support_scan_serial(*poly, d))
+          << "direction " << d.transpose() << " vertices " << poly->vertex_count();
+      ++checks;
+    }
+  }
+  EXPECT_GT(checks, 1000);
+}
+
 TEST(ConvexPolyhedron, RecentredOnCentroidWithOffsetKept) {
   // A unit cube far from the origin: offset is its centre, vertices +-0.5.
   const Eigen::Vector3d far(1e6, -2e6, 3e6);

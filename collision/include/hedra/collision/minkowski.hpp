@@ -76,7 +76,8 @@ inline BoxCore core_of(const Box& s) { return {s.half_extents}; }
 inline SegmentCore core_of(const Capsule& s) { return {s.half_length}; }
 inline CylinderCore core_of(const Cylinder& s) { return {s.radius, s.half_length}; }
 inline ConeCore core_of(const Cone& s) { return {s.radius, s.half_length}; }
-inline PolyhedronCore core_of(const Polyhedron& s) { return {s.hull.get(), 0}; }
+// No hint yet: the first climb starts from the hull's start vertices.
+inline PolyhedronCore core_of(const Polyhedron& s) { return {s.hull.get(), hull::kInvalidIndex}; }
 
 inline double core_radius(const Sphere& s) { return s.radius + s.margin; }
 inline double core_radius(const Box& s) { return s.margin; }

@@ -118,6 +118,24 @@ class ConvexPolyhedron {
   // hulls, whose meshes have no edges).
   const hull::Index* neighbors_begin(hull::Index i) const { return neighbors_.data() + neighbor_offsets_[i]; }
   const hull::Index* neighbors_end(hull::Index i) const { return neighbors_.data() + neighbor_offsets_[i + 1]; }
+  // The vertices again in blocks of four, each coordinate apart (the
+  // layout of the vectorised support scan, support.hpp); the last block is
+  // padded with copies of vertex 0, which never beat vertex 0 itself.
+  struct alignas(32) VertexBlock {
+    double x[4];
+    double y[4];
+    double z[4];
+  };
+  const std::vector<VertexBlock>& vertex_blocks() const { return blocks_; }
+  // Start vertices for a hill-climb without a hint (large solid hulls
+  // only, empty otherwise): the extreme vertices of kStartDirections
+  // directions spread over the sphere, in the same blocks (padded with the
+  // first), and their indices. A climb from the best of them walks a few
+  // steps instead of across the hull.
+  static constexpr std::size_t kStartDirections = 32;
+  static constexpr std::size_t kStartMinVertices = 256;
+  const std::vector<VertexBlock>& start_blocks() const { return start_blocks_; }
+  hull::Index start_vertex(std::size_t position) const { return start_ids_[position]; }
   // The half-edge mesh, recentred like vertex() (same vertex indices).
   const hull::HalfEdgeMesh& mesh() const { return mesh_; }
   int dimension() const { return dimension_; }
@@ -126,9 +144,14 @@ class ConvexPolyhedron {
 
  private:
   ConvexPolyhedron() = default;
+  // vertex_blocks() and the start vertices, from vertices_.
+  void build_blocks();
 
   Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> vertices_;
+  std::vector<VertexBlock> blocks_;
+  std::vector<VertexBlock> start_blocks_;
+  std::vector<hull::Index> start_ids_;
   std::vector<std::uint32_t> neighbor_offsets_;  // vertex_count() + 1 entries
   std::vector<hull::Index> neighbors_;
   hull::HalfEdgeMesh mesh_;
@@ -152,6 +175,9 @@ ShapeValidation validate(const Cylinder& s);
 ShapeValidation validate(const Cone& s);
 ShapeValidation validate(const Polyhedron& s);
 ShapeValidation validate(const Shape& s);
+// validate(s).ok() without building a message: what queries check on every
+// call (no allocation, a few comparisons).
+bool is_valid(const Shape& s);
 
 // Radius of a ball around the local origin holding the whole shape (margin
 // included). For a polyhedron the ball is centred on offset() instead, the

@@ -11,10 +11,12 @@
 // parallel to the axis (|d_xy| <= eps |d|) returns the rim point on +x, whose
 // support value is off by at most radius * eps * |d|.
 //
-// Polyhedra: a linear scan below kHillClimbCrossover vertices, above it
-// hill-climbing over the vertex adjacency of the half-edge mesh: from the hint
-// vertex, move to the neighbour with the largest d . x while it strictly
-// improves. On a convex polytope a vertex none of whose neighbours is
+// Polyhedra: a linear scan below kHillClimbCrossover vertices (four at a
+// time, SSE2 where available, the same first maximiser as one at a time),
+// above it hill-climbing over the vertex adjacency of the half-edge mesh: from
+// the hint vertex (on large hulls, from the better of the hint and the best
+// of a few precomputed extreme vertices), move to the neighbour with the
+// largest d . x while it strictly improves. On a convex polytope a vertex none of whose neighbours is
 // strictly better is a global maximiser (the edge graph of a polytope reaches
 // every vertex along non-decreasing d . x from any vertex that is not a
 // maximiser, the simplex method's optimality argument), so the answer is
@@ -37,12 +39,17 @@
 #include <hedra/collision/vector_math.hpp>
 #include <limits>
 
+#if defined(__SSE2__)
+#  include <emmintrin.h>
+#endif
+
 namespace hedra::collision {
 
 inline constexpr std::size_t kHillClimbCrossover = 32;
 
-// Index of a vertex maximising d . vertex(i); the first such vertex.
-inline hull::Index polyhedron_support_scan(const ConvexPolyhedron& poly, const Eigen::Vector3d& d) {
+// The first index of a vertex maximising d . vertex(i), one vertex at a
+// time: the reference the vectorised scan below must agree with.
+inline hull::Index polyhedron_support_scan_serial(const ConvexPolyhedron& poly, const Eigen::Vector3d& d) {
   const Eigen::Vector3d* v = poly.vertices().data();
   const std::size_t n = poly.vertex_count();
   hull::Index best = 0;
@@ -57,13 +64,106 @@ inline hull::Index polyhedron_support_scan(const ConvexPolyhedron& poly, const E
   return best;
 }
 
-// Steepest-ascent hill-climbing from `start` (any vertex index; out of range
-// means 0). Exact as argued at the top of this file.
+// The first position p in `count` blocks of four points (position 4 b + k:
+// block b, lane k) whose value d . x is the largest and strictly above
+// `start_value`, with that value; {-1, start_value} when none is. Lane k
+// keeps the first such point among positions = k (mod 4), the values in
+// dot3's order (the same bits as a serial loop); the lanes then compare by
+// value, ties to the smaller position, which is the first overall. NaN
+// values never compare greater, as in a serial loop. SSE2 (baseline on
+// x86_64) when the compiler offers it, plain lanes otherwise.
+struct BlockBest {
+  double position;
+  double value;
+};
+inline BlockBest first_block_max(const ConvexPolyhedron::VertexBlock* blocks, std::size_t count,
+                                 const Eigen::Vector3d& d, double start_value) {
+  alignas(16) double value[4], position[4];
+#if defined(__SSE2__)
+  const __m128d dx = _mm_set1_pd(d.x()), dy = _mm_set1_pd(d.y()), dz = _mm_set1_pd(d.z());
+  const __m128d step = _mm_set1_pd(4.0);
+  __m128d best_lo = _mm_set1_pd(start_value), best_hi = best_lo;
+  __m128d position_lo = _mm_set1_pd(-1.0), position_hi = position_lo;
+  __m128d at_lo = _mm_set_pd(1.0, 0.0), at_hi = _mm_set_pd(3.0, 2.0);
+  for (const ConvexPolyhedron::VertexBlock* b = blocks; b != blocks + count; ++b) {
+    const __m128d v_lo = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, _mm_load_pd(b->x)), _mm_mul_pd(dy, _mm_load_pd(b->y))),
+                                    _mm_mul_pd(dz, _mm_load_pd(b->z)));
+    const __m128d v_hi =
+        _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, _mm_load_pd(b->x + 2)), _mm_mul_pd(dy, _mm_load_pd(b->y + 2))),
+                   _mm_mul_pd(dz, _mm_load_pd(b->z + 2)));
+    const __m128d up_lo = _mm_cmpgt_pd(v_lo, best_lo), up_hi = _mm_cmpgt_pd(v_hi, best_hi);
+    // maxpd(v, best) is v > best ? v : best (best on ties and NaN).
+    best_lo = _mm_max_pd(v_lo, best_lo);
+    best_hi = _mm_max_pd(v_hi, best_hi);
+    position_lo = _mm_or_pd(_mm_and_pd(up_lo, at_lo), _mm_andnot_pd(up_lo, position_lo));
+    position_hi = _mm_or_pd(_mm_and_pd(up_hi, at_hi), _mm_andnot_pd(up_hi, position_hi));
+    at_lo = _mm_add_pd(at_lo, step);
+    at_hi = _mm_add_pd(at_hi, step);
+  }
+  _mm_store_pd(value, best_lo);
+  _mm_store_pd(value + 2, best_hi);
+  _mm_store_pd(position, position_lo);
+  _mm_store_pd(position + 2, position_hi);
+#else
+  for (int k = 0; k < 4; ++k) {
+    value[k] = start_value;
+    position[k] = -1.0;
+  }
+  double at = 0.0;
+  for (const ConvexPolyhedron::VertexBlock* b = blocks; b != blocks + count; ++b, at += 4.0) {
+    for (int k = 0; k < 4; ++k) {
+      const double v = (d.x() * b->x[k] + d.y() * b->y[k]) + d.z() * b->z[k];
+      if (v > value[k]) {
+        value[k] = v;
+        position[k] = at + k;
+      }
+    }
+  }
+#endif
+  int best = 0;
+  for (int k = 1; k < 4; ++k)
+    if (value[k] > value[best] || (value[k] == value[best] && position[k] < position[best])) best = k;
+  return {position[best], value[best]};
+}
+
+// The same index as the serial scan, four vertices at a time over
+// vertex_blocks(): the first vertex above vertex 0, else vertex 0 (a NaN
+// there answers 0, as nothing compares greater). Padding copies vertex 0:
+// never above it.
+inline hull::Index polyhedron_support_scan(const ConvexPolyhedron& poly, const Eigen::Vector3d& d) {
+  const BlockBest best =
+      first_block_max(poly.vertex_blocks().data(), poly.vertex_blocks().size(), d, dot3(d, poly.vertex(0)));
+  return best.position < 0.0 ? 0 : static_cast<hull::Index>(best.position);
+}
+
+// Where a climb without a hint starts: the first of the hull's start
+// vertices with the largest d . x (vertex 0 when it keeps none).
+inline hull::Index cold_start(const ConvexPolyhedron& poly, const Eigen::Vector3d& d) {
+  if (poly.start_blocks().empty()) return 0;
+  const hull::Index first = poly.start_vertex(0);
+  const BlockBest best =
+      first_block_max(poly.start_blocks().data(), poly.start_blocks().size(), d, dot3(d, poly.vertex(first)));
+  return best.position < 0.0 ? first : poly.start_vertex(static_cast<std::size_t>(best.position));
+}
+
+// Steepest-ascent hill-climbing from `start`, or from the best of the hull's
+// start vertices (ConvexPolyhedron::start_blocks()) when that is out of range
+// or, on a hull that keeps them, better than `start` (vertex 0 when out of
+// range on a hull that keeps none). Exact as argued at the top of this file:
+// the start changes the walk's length, not where it may stop.
 inline hull::Index polyhedron_support_climb(const ConvexPolyhedron& poly, const Eigen::Vector3d& d, hull::Index start) {
   const std::size_t n = poly.vertex_count();
   const Eigen::Vector3d* v = poly.vertices().data();
-  hull::Index current = start < n ? start : 0;
+  hull::Index current = start < n ? start : cold_start(poly, d);
   double current_value = dot3(d, v[current]);
+  if (start < n && !poly.start_blocks().empty()) {
+    const hull::Index other = cold_start(poly, d);
+    const double other_value = dot3(d, v[other]);
+    if (other_value > current_value) {
+      current = other;
+      current_value = other_value;
+    }
+  }
   for (std::size_t step = 0; step < n; ++step) {
     hull::Index best = current;
     double best_value = current_value;
