@@ -7,6 +7,8 @@
 #include <hedra/collision/raycast.hpp>
 #include <limits>
 
+#include "cast_common.hpp"
+
 namespace hedra::collision {
 
 namespace {
@@ -155,24 +157,6 @@ LocalHit ray_cylinder(const Cylinder& s, const Vec& o, const Vec& d, double max_
   return {CastStatus::hit, t, Vec(0.0, 0.0, d.z() > 0.0 ? -1.0 : 1.0), 0.0, 0};
 }
 
-// What penetration() certifies of the ray's origin o (core frame): within
-// the tolerance of the shape, or outside it with `toward` the unit direction
-// from the shape to o. Neither without a verdict.
-struct Start {
-  bool inside = false;
-  Vec toward = Vec::Zero();
-};
-
-template <class S>
-Start settle_start(const S& shape, const Vec& o, double tolerance) {
-  const Sphere point{0.0, 0.0};
-  const PenetrationResult p =
-      penetration(Shape{shape}, Pose::identity(), point, Pose::from_translation(o + core_offset(shape)));
-  if (p.status != Status::ok) return {};
-  if (p.distance - p.error_bound <= tolerance) return {true, Vec::Zero()};
-  return {false, p.normal};
-}
-
 // Every other shape: GJK ray cast on the core, grown by its radius. A stall
 // or the cap before its first clip certifies nothing of the start
 // (gjk_raycast.hpp), so penetration() settles it: started inside, or one
@@ -189,10 +173,12 @@ LocalHit ray_gjk(const S& shape, const Vec& o, const Vec& d, double max_fraction
   int iterations = g.iterations;
   const bool unsettled = (g.status == CastStatus::stalled || g.status == CastStatus::max_iterations) && !g.clipped;
   if (unsettled) {
-    const Start start = settle_start(shape, o, tolerance);
-    if (start.inside) return {CastStatus::initially_overlapping, 0.0, Vec::Zero(), 0.0, iterations};
-    if (start.toward.squaredNorm() > 0.0) {
-      g = gjk_raycast(core, origin, radius, d, max_fraction, start.toward, tolerance, settings.max_iterations);
+    // The origin as a point (a ball of radius 0) in the shape's frame.
+    const cast_detail::Start start = cast_detail::settle_start(
+        shape, Pose::identity(), Sphere{0.0, 0.0}, Pose::from_translation(o + core_offset(shape)), 0.0, tolerance);
+    if (start.within) return {CastStatus::initially_overlapping, 0.0, Vec::Zero(), 0.0, iterations};
+    if (start.apart) {
+      g = gjk_raycast(core, origin, radius, d, max_fraction, start.p.normal, tolerance, settings.max_iterations);
       iterations += g.iterations;
     }
   }
