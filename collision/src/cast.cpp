@@ -14,10 +14,6 @@ namespace {
 
 using Vec = Eigen::Vector3d;
 
-bool unsettled(const GjkRaycastResult& g) {
-  return (g.status == CastStatus::stalled || g.status == CastStatus::max_iterations) && !g.clipped;
-}
-
 template <class SA, class SB>
 CastResult shape_cast_typed(const SA& a, const Pose& pose_a, const Vec& translation_a, const SB& b, const Pose& pose_b,
                             const Vec& translation_b, const Shape& shape_a, const Shape& shape_b,
@@ -47,7 +43,7 @@ CastResult shape_cast_typed(const SA& a, const Pose& pose_a, const Vec& translat
   };
   GjkRaycastResult g = cast(axis);
   int iterations = g.iterations, support_calls = g.support_calls;
-  if (unsettled(g)) {
+  if (start_unsettled(g)) {
     // A stall or the cap before the first clip certifies nothing at t = 0
     // (gjk_raycast.hpp): penetration() settles the start. Within the
     // target: that answer; apart: one more ray cast from its separating

@@ -171,8 +171,7 @@ LocalHit ray_gjk(const S& shape, const Vec& o, const Vec& d, double max_fraction
   const double radius = core_radius(shape);
   GjkRaycastResult g = gjk_raycast(core, origin, radius, d, max_fraction, o, tolerance, settings.max_iterations);
   int iterations = g.iterations;
-  const bool unsettled = (g.status == CastStatus::stalled || g.status == CastStatus::max_iterations) && !g.clipped;
-  if (unsettled) {
+  if (start_unsettled(g)) {
     // The origin as a point (a ball of radius 0) in the shape's frame.
     const cast_detail::Start start = cast_detail::settle_start(
         shape, Pose::identity(), Sphere{0.0, 0.0}, Pose::from_translation(o + core_offset(shape)), 0.0, tolerance);

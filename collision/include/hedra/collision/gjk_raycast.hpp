@@ -66,6 +66,12 @@ struct GjkRaycastResult {
   int support_calls = 0;
 };
 
+// A stall or the cap before the first clip: no verdict, not even that
+// lambda = 0 is free.
+inline bool start_unsettled(const GjkRaycastResult& r) {
+  return (r.status == CastStatus::stalled || r.status == CastStatus::max_iterations) && !r.clipped;
+}
+
 namespace raycast_detail {
 
 struct RaySimplex {
