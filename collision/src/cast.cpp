@@ -16,7 +16,8 @@ using Vec = Eigen::Vector3d;
 
 template <class SA, class SB>
 CastResult shape_cast_typed(const SA& a, const Pose& pose_a, const Vec& translation_a, const SB& b, const Pose& pose_b,
-                            const Vec& translation_b, const ShapeCastSettings& settings, GjkCache* cache) {
+                            const Vec& translation_b, const Shape& shape_a, const Shape& shape_b,
+                            const ShapeCastSettings& settings, GjkCache* cache) {
   auto core_a = core_of(a);
   auto core_b = core_of(b);
   const RelativePose relative = relative_pose(pose_a, core_offset(a), pose_b, core_offset(b));
@@ -36,14 +37,36 @@ CastResult shape_cast_typed(const SA& a, const Pose& pose_a, const Vec& translat
     load_hint(core_b, cache->hint_b);
   }
   if (!(axis.squaredNorm() > 0.0)) axis = -u;
-  const GjkRaycastResult g =
-      gjk_raycast(core_a, placed_b, radius_a + radius_b + target, u, 1.0, axis, tolerance, settings.max_iterations);
+  const auto cast = [&](const Vec& from) {
+    return gjk_raycast(core_a, placed_b, radius_a + radius_b + target, u, 1.0, from, tolerance,
+                       settings.max_iterations);
+  };
+  GjkRaycastResult g = cast(axis);
+  int iterations = g.iterations, support_calls = g.support_calls;
+  if (start_unsettled(g)) {
+    // A stall or the cap before the first clip certifies nothing at t = 0
+    // (gjk_raycast.hpp): penetration() settles the start. Within the
+    // target: that answer; apart: one more ray cast from its separating
+    // direction (a stall there leaves t = 0, now known to be free).
+    const cast_detail::Start start = cast_detail::settle_start(shape_a, pose_a, shape_b, pose_b, target, tolerance);
+    if (start.within) {
+      CastResult out = cast_detail::initially_overlapping(start.p);
+      out.iterations = iterations;
+      out.support_calls += support_calls;
+      return out;
+    }
+    if (start.apart) {
+      g = cast(pose_a.rotation.transpose() * start.p.normal);
+      iterations += g.iterations;
+      support_calls += start.p.support_calls + g.support_calls;
+    }
+  }
   store_cache(cache, -g.v, core_a, core_b);
 
   CastResult out;
   out.status = g.status;
-  out.iterations = g.iterations;
-  out.support_calls = g.support_calls;
+  out.iterations = iterations;
+  out.support_calls = support_calls;
   out.fraction = g.lambda;
   switch (g.status) {
     case CastStatus::hit: {
@@ -54,9 +77,9 @@ CastResult shape_cast_typed(const SA& a, const Pose& pose_a, const Vec& translat
       return out;
     }
     case CastStatus::initially_overlapping: {
-      CastResult start = cast_detail::initially_overlapping(a, pose_a, b, pose_b);
-      start.iterations = g.iterations;
-      start.support_calls += g.support_calls;
+      CastResult start = cast_detail::initially_overlapping(shape_a, pose_a, shape_b, pose_b);
+      start.iterations = iterations;
+      start.support_calls += support_calls;
       return start;
     }
     case CastStatus::separated:
@@ -83,7 +106,7 @@ CastResult shape_cast(const Shape& a, const Pose& pose_a, const Eigen::Vector3d&
   }
   return std::visit(
       [&](const auto& sa, const auto& sb) {
-        return shape_cast_typed(sa, pose_a, translation_a, sb, pose_b, translation_b, settings, cache);
+        return shape_cast_typed(sa, pose_a, translation_a, sb, pose_b, translation_b, a, b, settings, cache);
       },
       a, b);
 }

@@ -22,9 +22,8 @@ inline bool target_valid(double target_distance, double linear_slop) {
          target_distance + linear_slop <= max_shape_size;
 }
 
-// A pair within the target at t = 0: penetration()'s signed answer.
-inline CastResult initially_overlapping(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
-  const PenetrationResult p = penetration(a, pose_a, b, pose_b);
+// A pair within the target at t = 0: penetration()'s signed answer `p`.
+inline CastResult initially_overlapping(const PenetrationResult& p) {
   CastResult out;
   out.status = CastStatus::initially_overlapping;
   out.hit = out.initially_overlapping = true;
@@ -36,6 +35,36 @@ inline CastResult initially_overlapping(const Shape& a, const Pose& pose_a, cons
   out.error_bound = p.error_bound;
   out.support_calls = p.support_calls;
   return out;
+}
+
+inline CastResult initially_overlapping(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
+  return initially_overlapping(penetration(a, pose_a, b, pose_b));
+}
+
+// A continuous query whose iteration stopped (a stall or the cap) before
+// certifying anything at t = 0 (its "t = 0 is free" would be unfounded):
+// penetration() settles the start, when its answer brackets the signed
+// distance (ok, or best so far within error_bound: stalled, polytope_full).
+// `within`: possibly within the target plus the tolerance (the answer is
+// then p's, initially_overlapping); `apart`: certainly beyond it, t = 0 is
+// free and p.normal (world, A toward B) is the direction to search from.
+// Neither: no verdict.
+struct Start {
+  bool within = false;
+  bool apart = false;
+  PenetrationResult p;
+};
+
+inline Start settle_start(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, double target,
+                          double tolerance) {
+  Start start;
+  start.p = penetration(a, pose_a, b, pose_b);
+  const Status s = start.p.status;
+  if (s != Status::ok && s != Status::stalled && s != Status::polytope_full) return start;
+  const double lower = start.p.distance - start.p.error_bound;
+  start.within = lower <= target + tolerance;
+  start.apart = !start.within && start.p.normal.squaredNorm() > 0.0;
+  return start;
 }
 
 // A hit: core witnesses in A's core frame at the hit (core_b - core_a along

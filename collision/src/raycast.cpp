@@ -7,6 +7,8 @@
 #include <hedra/collision/raycast.hpp>
 #include <limits>
 
+#include "cast_common.hpp"
+
 namespace hedra::collision {
 
 namespace {
@@ -155,15 +157,31 @@ LocalHit ray_cylinder(const Cylinder& s, const Vec& o, const Vec& d, double max_
   return {CastStatus::hit, t, Vec(0.0, 0.0, d.z() > 0.0 ? -1.0 : 1.0), 0.0, 0};
 }
 
-// Every other shape: GJK ray cast on the core, grown by its radius.
+// Every other shape: GJK ray cast on the core, grown by its radius. A stall
+// or the cap before its first clip certifies nothing of the start
+// (gjk_raycast.hpp), so penetration() settles it: started inside, or one
+// more ray cast from the certified direction toward the origin, whose
+// support faces the ray (a stall there leaves fraction 0, now known to be
+// free). Without a verdict the stall stands.
 template <class S>
 LocalHit ray_gjk(const S& shape, const Vec& o, const Vec& d, double max_fraction, double tolerance,
                  const RaycastSettings& settings) {
   const auto core = core_of(shape);
   const FixedPoint origin{o};
-  const GjkRaycastResult g =
-      gjk_raycast(core, origin, core_radius(shape), d, max_fraction, o, tolerance, settings.max_iterations);
-  return {g.status, g.lambda, g.normal, std::max(g.gap, 0.0), g.iterations};
+  const double radius = core_radius(shape);
+  GjkRaycastResult g = gjk_raycast(core, origin, radius, d, max_fraction, o, tolerance, settings.max_iterations);
+  int iterations = g.iterations;
+  if (start_unsettled(g)) {
+    // The origin as a point (a ball of radius 0) in the shape's frame.
+    const cast_detail::Start start = cast_detail::settle_start(
+        shape, Pose::identity(), Sphere{0.0, 0.0}, Pose::from_translation(o + core_offset(shape)), 0.0, tolerance);
+    if (start.within) return {CastStatus::initially_overlapping, 0.0, Vec::Zero(), 0.0, iterations};
+    if (start.apart) {
+      g = gjk_raycast(core, origin, radius, d, max_fraction, start.p.normal, tolerance, settings.max_iterations);
+      iterations += g.iterations;
+    }
+  }
+  return {g.status, g.lambda, g.normal, std::max(g.gap, 0.0), iterations};
 }
 
 template <class S>

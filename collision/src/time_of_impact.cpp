@@ -157,7 +157,16 @@ CastResult toi_typed(const SA& a, const Sweep& sweep_a, const SB& b, const Sweep
     const double gap = s.separation - target;
     if (!(gap > 0.0)) {
       // GJK's bracket [separation, upper] straddles the target by more than
-      // the tolerance: rounding (or GJK's cap) stopped it.
+      // the tolerance: rounding (or GJK's cap) stopped it. At t = 0 nothing
+      // has certified the start free yet: penetration() settles it.
+      if (t == 0.0) {
+        const cast_detail::Start start =
+            cast_detail::settle_start(shape_a, sweep_a.start, shape_b, sweep_b.start, target, tolerance);
+        if (start.within) {
+          store_cache(cache, axis, p.core_a, p.core_b);
+          return cast_detail::initially_overlapping(start.p);
+        }
+      }
       out.status = s.gjk.status == GjkStatus::max_iterations ? CastStatus::max_iterations : CastStatus::stalled;
       break;
     }

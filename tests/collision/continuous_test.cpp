@@ -279,6 +279,67 @@ TEST(Raycast, FromInsideReportsFractionZero) {
   }
 }
 
+// A cone 1e9 times wider than thick. The GJK ray cast's v carries rounding
+// eps |p| / |v| in its direction (2e-7 here), above the cone's slope 2h/r
+// (2e-9), so from a point inside, the apex never becomes the support: the
+// rim triangle under the point cannot bring |v| below the depth, and the
+// loop stalls before any clip. "stalled" at fraction 0 would say the origin
+// is free of the cone; nothing had certified it, penetration() settles it.
+TEST(Raycast, StallBeforeTheFirstClipCertifiesNothingOfTheStart) {
+  const Cone cone{46750.0, 5.0000172864511173e-05, 0.0};
+  const Pose pose = Pose::from_quaternion(
+      Quat(0.27881019486864272, 1.0416246609712541e-12, -3.0258097952802415e-13, 0.96034622675226322), Vec::Zero());
+  // The ray from 5e-5 inside, mid-thickness (its cast stalled after 3 iterations).
+  const RaycastResult r = raycast(cone, pose, Vec(-5.25, -2.875, 0.0), Vec(10.49961875, 5.7506124999999999, 0.0), 0.5);
+  EXPECT_EQ(r.status, CastStatus::initially_overlapping);
+  EXPECT_EQ(r.fraction, 0.0);
+  // Rays from within three thicknesses of the mid-plane, nearly along it:
+  // every answer a verdict, none late against the exact distance.
+  const double h = cone.half_length, tol = 1e-9 * cone.radius;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int inside = 0, hits = 0, misses = 0;
+  for (int i = 0; i < 400; ++i) {
+    const Vec o(10.0 * u(rng), 10.0 * u(rng), 3.0 * h * u(rng));
+    const Vec d(10.0 * u(rng), 10.0 * u(rng), 1e-3 * u(rng));
+    const RaycastResult ray = raycast(cone, Pose::identity(), o, d);
+    ASSERT_TRUE(ray.status == CastStatus::initially_overlapping || ray.status == CastStatus::hit ||
+                ray.status == CastStatus::separated)
+        << "ray " << i << ": " << to_string(ray.status);
+    if (ray.status == CastStatus::initially_overlapping) {
+      ++inside;
+      EXPECT_LE(point_sd(cone, o), tol) << "ray " << i;
+      continue;
+    }
+    (ray.hit ? hits : misses)++;
+    if (ray.hit) {
+      EXPECT_LE(point_sd(cone, o + ray.fraction * d), tol + ray.error_bound) << "ray " << i;
+    }
+    for (int k = 0; k < 64; ++k) {
+      const double t = ray.fraction * k / 64.0;
+      EXPECT_GE(point_sd(cone, o + t * d), -tol) << "ray " << i << " late: in the cone at " << t;
+    }
+  }
+  std::printf("flat cone: %d rays start inside, %d hit, %d miss\n", inside, hits, misses);
+  EXPECT_GT(inside, 40);
+  EXPECT_GT(hits, 40);
+  EXPECT_GT(misses, 40);
+}
+
+// The same start for the casts: a small ball inside the flat cone.
+TEST(ShapeCast, StallBeforeTheFirstClipCertifiesNothingOfTheStart) {
+  const Cone cone{46750.0, 5.0000172864511173e-05, 0.0};
+  const Sphere ball{1e-6, 0.0};
+  const Pose ball_pose = Pose::from_translation(Vec(2.8941938579143036, 5.2394433781472536, 0.0));
+  const Vec move(-5.7877377398209262, -10.479199868098723, 0.0);
+  const CastResult cast = shape_cast(ball, ball_pose, move, cone, Pose::identity(), Vec::Zero());
+  EXPECT_EQ(cast.status, CastStatus::initially_overlapping);
+  EXPECT_LT(cast.distance, -4e-5);
+  const CastResult toi = time_of_impact(ball, Sweep{ball_pose, Pose::from_translation(ball_pose.translation + move)},
+                                        cone, Sweep{Pose::identity(), Pose::identity()});
+  EXPECT_EQ(toi.status, CastStatus::initially_overlapping);
+}
+
 TEST(Raycast, FarFromTheOriginAndBadInput) {
   // The same ray 1e6 away hits within 1e-9 of the size where it hits near the origin.
   std::mt19937_64 rng(11);

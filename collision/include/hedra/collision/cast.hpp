@@ -17,7 +17,10 @@
 // at t is then in [target, target + tolerance].
 //
 // Pairs within the target at t = 0 answer t = 0, initially_overlapping, with
-// penetration()'s signed distance, normal and witnesses.
+// penetration()'s signed distance, normal and witnesses. A ray cast that
+// stalls (or hits the cap) before its first clip has certified nothing at
+// t = 0: penetration() settles the start (within the target, or apart with
+// a separating direction that starts one more ray cast).
 #pragma once
 
 #include <Eigen/Core>

@@ -22,6 +22,11 @@
 //   p already in the simplex with no clip, or |v| failing to decrease
 //     without a clip: stalled (lambda is still safe);
 //   the cap: max_iterations (lambda safe); a non-finite point: degenerate.
+// "Safe" says nothing of lambda = 0 itself before the first clip (`clipped`
+// false): v is only an upper bound there, and on a thin set (a cone 1e9
+// times wider than thick) its direction's rounding, eps |p| / |v|, can keep
+// the far side's support out of the simplex, so a start inside stalls. The
+// caller settles such a start with a certified query.
 #pragma once
 
 #include <Eigen/Core>
@@ -53,9 +58,19 @@ struct GjkRaycastResult {
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  // the simplex's closest point, split into A's
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  // and B's parts (B at lambda = 0)
   double gap = 0.0;                                   // |v| - radius: the distance at lambda is at most this
+  // lambda moved onto a supporting plane at least once: the point at lambda
+  // is certified outside the set (within rounding). False on a stall or the
+  // cap before any clip: nothing is known of the start.
+  bool clipped = false;
   int iterations = 0;
   int support_calls = 0;
 };
+
+// A stall or the cap before the first clip: no verdict, not even that
+// lambda = 0 is free.
+inline bool start_unsettled(const GjkRaycastResult& r) {
+  return (r.status == CastStatus::stalled || r.status == CastStatus::max_iterations) && !r.clipped;
+}
 
 namespace raycast_detail {
 
@@ -185,6 +200,7 @@ GjkRaycastResult gjk_raycast(const A& a, const B& b, double radius, const Eigen:
     v = inside ? Eigen::Vector3d::Zero() : sub.point;
   }
   r.lambda = lambda;
+  r.clipped = clipped_ever;
   r.v = v;
   raycast_detail::witnesses(s, r);
   if (s.size == 0) {  // no step taken: the starting point

@@ -10,7 +10,10 @@
 //     forms (the closest approach to the centre or axis, then the root; the
 //     slab test; the cylinder's slab and side);
 //   everything else: the GJK ray cast of gjk_raycast.hpp on the core, grown
-//     by the core's radius, which never steps past the surface.
+//     by the core's radius, which never steps past the surface. One that
+//     stalls (or hits the cap) before its first clip has certified nothing
+//     of the origin: penetration() of the origin settles it (inside, or
+//     outside with a direction that starts one more ray cast).
 // A ray starting inside (or within the tolerance of) the shape hits at 0 with
 // started_inside and no normal. The tolerance is settings.tolerance times the
 // shape's size, and never below the rounding of the ray's coordinates.

@@ -25,7 +25,10 @@
 // Frames: positions are taken relative to A's start position (exact for
 // nearby bodies), so bodies 1e6 from the origin lose nothing; GJK runs on
 // the cores in A's core frame at t, as the other queries do. Pairs within
-// the target at t = 0 answer t = 0 with penetration()'s signed answer.
+// the target at t = 0 answer t = 0 with penetration()'s signed answer; so
+// do pairs whose first GJK bracket straddles the target (rounding on a thin
+// core) when penetration() finds them possibly within it; beyond it, the
+// stall at t = 0 is certified free.
 #pragma once
 
 #include <Eigen/Core>
