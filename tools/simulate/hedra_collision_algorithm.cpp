@@ -285,7 +285,6 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
   if (!sa || !sb) return;
   collision::ContactSettings settings;
   settings.contact_distance = manifold_->getContactBreakingThreshold();
-  settings.hold = 1e-6;  // resting points stay put under the solver's noise (manifold.hpp)
   const collision::ContactResult r = collision::contact(sa->shape, sa->pose(a->getWorldTransform()), sb->shape,
                                                         sb->pose(b->getWorldTransform()), &cache_, settings);
   ++g_queries;

@@ -109,8 +109,7 @@
 //   * a face contact with more than four candidates keeps the last frame's
 //     four points (ContactCache::kept) while all are still candidates and
 //     their deepest lies within ContactSettings::hold (a fraction of the
-//     size; 0 by default, a simulator sets about 1e-6) of the deepest
-//     candidate: a solver's corrections move a resting polygon's depths by
+//     size; 0 by default) of the deepest candidate: a solver's corrections move a resting polygon's depths by
 //     1e-6 to 1e-4 of the size a frame, and the cold choice would swap its
 //     points every few frames.
 // Warm answers equal cold ones but for that kept face of B (within the
@@ -209,8 +208,8 @@ struct ContactSettings {
   // candidates and their deepest lies within this fraction of the pair's size
   // of the deepest candidate (the deepest point then that much shallower at
   // most); 0 (the default: warm answers equal cold ones) keeps the cold
-  // choice (deepest first) every frame. A simulator that wants resting
-  // points to stay put sets about 1e-6 (tools/simulate does).
+  // choice (deepest first) every frame. A simulator whose solver does not
+  // hold points itself may want about 1e-6 (docs/contacts.md).
   double hold = 0.0;
   PenetrationSettings penetration;  // for the paths that use penetration()
 };
