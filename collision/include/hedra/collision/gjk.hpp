@@ -199,7 +199,7 @@ inline void s2d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, int i2,
 // Tetrahedron w[0..3]. Returns true when the origin is strictly inside.
 inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
   auto det = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-    return a.dot(b.cross(c));
+    return dot3(a, cross3(b, c));
   };
   // c[m] = signed volume of the tetrahedron with w[m] replaced by the origin;
   // their sum is the tetrahedron's signed volume det[w1-w0, w2-w0, w3-w0].
@@ -236,7 +236,7 @@ inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
   // rounding is absolute, and then nothing is skipped). An overflowing or
   // NaN bound skips nothing either (the comparison fails).
   std::array<double, 4> nn;
-  for (int m = 0; m < 4; ++m) nn[m] = w[m].squaredNorm();
+  for (int m = 0; m < 4; ++m) nn[m] = dot3(w[m], w[m]);
   constexpr double kDetError = 32.0 * std::numeric_limits<double>::epsilon();
   constexpr double kDetFloor = 1e-290;
   std::array<double, 4> bound;
@@ -251,7 +251,7 @@ inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
     if (!outside[m] && (m == 3 || (total_certain && std::abs(c[m]) > bound[m]))) continue;
     Sub candidate;
     s2d(w, kFace[m][0], kFace[m][1], kFace[m][2], candidate, 3);
-    const double d2 = candidate.point.squaredNorm();
+    const double d2 = dot3(candidate.point, candidate.point);
     if (!found || d2 < best) {
       best = d2;
       out = candidate;
@@ -363,7 +363,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
   GjkSimplex& s = r.simplex;
   if (!start(a, b, initial_axis, r)) return r;
   Eigen::Vector3d v = s.w[0];
-  double vv = v.squaredNorm();
+  double vv = dot3(v, v);
   double lower = 0.0;
   double signed_lower = -std::numeric_limits<double>::infinity();
   // Steps without a decrease beyond rounding (see below), and the best
@@ -399,7 +399,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
       break;
     }
     const double vn = length_of(v, vv);
-    const double vw = v.dot(w);
+    const double vw = dot3(v, w);
     lower = std::max(lower, vw / vn);
     signed_lower = std::max(signed_lower, vw / vn);
     if (kBoolean && vw > margin * vn) break;  // a separating axis: done
@@ -435,7 +435,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
       r.intersecting = true;
       break;
     }
-    const double vv_next = sub.point.squaredNorm();
+    const double vv_next = dot3(sub.point, sub.point);
     // Strict decrease, written so that NaN fails it: keep the previous,
     // better simplex and stop (the gap was above the tolerance).
     // Except for a few steps sideways: a step whose true decrease is below
