@@ -185,13 +185,18 @@ inline void s2d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, int i2,
   const bool has_newest = newest == i0 || newest == i1 || newest == i2;
   for (int m = 0; m < 3; ++m) {
     if (!outside[m] && !(has_newest && ids[m] != newest)) continue;
+    // The first candidate is written straight into `out`, later ones into
+    // `candidate`, copied only when closer.
     Sub candidate;
-    s1d(w, ids[(m + 1) % 3], ids[(m + 2) % 3], candidate);
-    const double d2 = candidate.point.squaredNorm();
-    if (!found || d2 < best) {
+    Sub& target = found ? candidate : out;
+    s1d(w, ids[(m + 1) % 3], ids[(m + 2) % 3], target);
+    const double d2 = target.point.squaredNorm();
+    if (!found) {
+      best = d2;
+      found = true;
+    } else if (d2 < best) {
       best = d2;
       out = candidate;
-      found = true;
     }
   }
 }
@@ -249,13 +254,16 @@ inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
   bool found = false;
   for (int m = 0; m < 4; ++m) {
     if (!outside[m] && (m == 3 || (total_certain && std::abs(c[m]) > bound[m]))) continue;
-    Sub candidate;
-    s2d(w, kFace[m][0], kFace[m][1], kFace[m][2], candidate, 3);
-    const double d2 = dot3(candidate.point, candidate.point);
-    if (!found || d2 < best) {
+    Sub candidate;  // as in s2d: the first straight into `out`
+    Sub& target = found ? candidate : out;
+    s2d(w, kFace[m][0], kFace[m][1], kFace[m][2], target, 3);
+    const double d2 = dot3(target.point, target.point);
+    if (!found) {
+      best = d2;
+      found = true;
+    } else if (d2 < best) {
       best = d2;
       out = candidate;
-      found = true;
     }
   }
   return false;
@@ -281,8 +289,25 @@ inline bool signed_volumes(const std::array<Eigen::Vector3d, 4>& w, int count, S
 }
 
 // Rewrites `s` as the sub-simplex `sub` of its points (indices distinct, in
-// any order), with sub's weights.
+// any order), with sub's weights. Increasing indices (index[i] >= i, the
+// common case) move down in place: slot i is written after every source
+// below it has been read; any other order goes through copies.
 inline void adopt(GjkSimplex& s, const Sub& sub) {
+  bool increasing = true;
+  for (int i = 1; i < sub.size; ++i) increasing = increasing && sub.index[i - 1] < sub.index[i];
+  if (increasing) {
+    for (int i = 0; i < sub.size; ++i) {
+      const int k = sub.index[i];
+      if (k != i) {
+        s.w[i] = s.w[k];
+        s.a[i] = s.a[k];
+        s.b[i] = s.b[k];
+      }
+      s.lambda[i] = sub.lambda[i];
+    }
+    s.size = sub.size;
+    return;
+  }
   std::array<Eigen::Vector3d, 4> w, a, b;
   for (int i = 0; i < sub.size; ++i) {
     w[i] = s.w[sub.index[i]];
