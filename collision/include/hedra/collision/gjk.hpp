@@ -185,13 +185,18 @@ inline void s2d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, int i2,
   const bool has_newest = newest == i0 || newest == i1 || newest == i2;
   for (int m = 0; m < 3; ++m) {
     if (!outside[m] && !(has_newest && ids[m] != newest)) continue;
+    // The first candidate is written straight into `out`, later ones into
+    // `candidate`, copied only when closer.
     Sub candidate;
-    s1d(w, ids[(m + 1) % 3], ids[(m + 2) % 3], candidate);
-    const double d2 = candidate.point.squaredNorm();
-    if (!found || d2 < best) {
+    Sub& target = found ? candidate : out;
+    s1d(w, ids[(m + 1) % 3], ids[(m + 2) % 3], target);
+    const double d2 = target.point.squaredNorm();
+    if (!found) {
+      best = d2;
+      found = true;
+    } else if (d2 < best) {
       best = d2;
       out = candidate;
-      found = true;
     }
   }
 }
@@ -199,7 +204,7 @@ inline void s2d(const std::array<Eigen::Vector3d, 4>& w, int i0, int i1, int i2,
 // Tetrahedron w[0..3]. Returns true when the origin is strictly inside.
 inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
   auto det = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-    return a.dot(b.cross(c));
+    return dot3(a, cross3(b, c));
   };
   // c[m] = signed volume of the tetrahedron with w[m] replaced by the origin;
   // their sum is the tetrahedron's signed volume det[w1-w0, w2-w0, w3-w0].
@@ -236,7 +241,7 @@ inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
   // rounding is absolute, and then nothing is skipped). An overflowing or
   // NaN bound skips nothing either (the comparison fails).
   std::array<double, 4> nn;
-  for (int m = 0; m < 4; ++m) nn[m] = w[m].squaredNorm();
+  for (int m = 0; m < 4; ++m) nn[m] = dot3(w[m], w[m]);
   constexpr double kDetError = 32.0 * std::numeric_limits<double>::epsilon();
   constexpr double kDetFloor = 1e-290;
   std::array<double, 4> bound;
@@ -249,13 +254,16 @@ inline bool s3d(const std::array<Eigen::Vector3d, 4>& w, Sub& out) {
   bool found = false;
   for (int m = 0; m < 4; ++m) {
     if (!outside[m] && (m == 3 || (total_certain && std::abs(c[m]) > bound[m]))) continue;
-    Sub candidate;
-    s2d(w, kFace[m][0], kFace[m][1], kFace[m][2], candidate, 3);
-    const double d2 = candidate.point.squaredNorm();
-    if (!found || d2 < best) {
+    Sub candidate;  // as in s2d: the first straight into `out`
+    Sub& target = found ? candidate : out;
+    s2d(w, kFace[m][0], kFace[m][1], kFace[m][2], target, 3);
+    const double d2 = dot3(target.point, target.point);
+    if (!found) {
+      best = d2;
+      found = true;
+    } else if (d2 < best) {
       best = d2;
       out = candidate;
-      found = true;
     }
   }
   return false;
@@ -281,8 +289,25 @@ inline bool signed_volumes(const std::array<Eigen::Vector3d, 4>& w, int count, S
 }
 
 // Rewrites `s` as the sub-simplex `sub` of its points (indices distinct, in
-// any order), with sub's weights.
+// any order), with sub's weights. Increasing indices (index[i] >= i, the
+// common case) move down in place: slot i is written after every source
+// below it has been read; any other order goes through copies.
 inline void adopt(GjkSimplex& s, const Sub& sub) {
+  bool increasing = true;
+  for (int i = 1; i < sub.size; ++i) increasing = increasing && sub.index[i - 1] < sub.index[i];
+  if (increasing) {
+    for (int i = 0; i < sub.size; ++i) {
+      const int k = sub.index[i];
+      if (k != i) {
+        s.w[i] = s.w[k];
+        s.a[i] = s.a[k];
+        s.b[i] = s.b[k];
+      }
+      s.lambda[i] = sub.lambda[i];
+    }
+    s.size = sub.size;
+    return;
+  }
   std::array<Eigen::Vector3d, 4> w, a, b;
   for (int i = 0; i < sub.size; ++i) {
     w[i] = s.w[sub.index[i]];
@@ -363,7 +388,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
   GjkSimplex& s = r.simplex;
   if (!start(a, b, initial_axis, r)) return r;
   Eigen::Vector3d v = s.w[0];
-  double vv = v.squaredNorm();
+  double vv = dot3(v, v);
   double lower = 0.0;
   double signed_lower = -std::numeric_limits<double>::infinity();
   // Steps without a decrease beyond rounding (see below), and the best
@@ -399,7 +424,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
       break;
     }
     const double vn = length_of(v, vv);
-    const double vw = v.dot(w);
+    const double vw = dot3(v, w);
     lower = std::max(lower, vw / vn);
     signed_lower = std::max(signed_lower, vw / vn);
     if (kBoolean && vw > margin * vn) break;  // a separating axis: done
@@ -435,7 +460,7 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
       r.intersecting = true;
       break;
     }
-    const double vv_next = sub.point.squaredNorm();
+    const double vv_next = dot3(sub.point, sub.point);
     // Strict decrease, written so that NaN fails it: keep the previous,
     // better simplex and stop (the gap was above the tolerance).
     // Except for a few steps sideways: a step whose true decrease is below
