@@ -3,7 +3,7 @@
 //   penetration_cases dump FILE FAMILY...   generate the bench's pairs of
 //       those families (seed 1, tools/cli/bench/workloads.cpp) with their exact
 //       references and write them to FILE (text, %.17g: replayed bit for bit)
-//   penetration_profile run FILE [--family NAME] [--repeat N] [--time]
+//   penetration_profile run FILE [--family NAME] [--repeat N] [--time] [--answers OUT]
 //       replay them: N penetration() calls per pair (cold, as the bench
 //       runs hedra), then per family the queries, the largest error against
 //       the reference (absolute and relative to the pair's size), failures
@@ -11,7 +11,10 @@
 //       normal more than 1e-3 rad off a unique reference normal, a cap, a
 //       NaN), mean GJK/EPA iterations and support calls, and a hash of every
 //       answer (distance, normal, witnesses: equal hashes, answers equal bit
-//       for bit); --time adds the median over 7 loops of ns per query.
+//       for bit); --time adds the median over 7 loops of ns per query;
+//       --answers OUT writes every answer (family, index, status, distance,
+//       error bound, normal, witnesses, the exact distance, its bound and the
+//       pair's size; %.17g) to compare two builds answer by answer.
 // Two executables from this file: penetration_cases (with the bench's
 // workloads, for `dump`) and penetration_profile (`run` only, so that a
 // change to the collision headers rebuilds little).
@@ -175,8 +178,13 @@ std::vector<Case> load(const std::string& file, const std::string& only) {
 // loop), so callgrind's toggle on penetration() sees the queries alone.
 double sink = 0.0;
 
-int run(const std::string& file, const std::string& only, int repeat, bool time) {
+int run(const std::string& file, const std::string& only, int repeat, bool time, const std::string& answers) {
   const std::vector<Case> cases = load(file, only);
+  std::FILE* answers_out = answers.empty() ? nullptr : std::fopen(answers.c_str(), "w");
+  if (!answers.empty() && !answers_out) {
+    std::fprintf(stderr, "penetration_profile: cannot write %s\n", answers.c_str());
+    return 2;
+  }
   struct Stats {
     int queries = 0, failures = 0, gjk = 0, epa = 0, calls = 0, pairs = 0;
     double max_abs = 0.0, max_rel = 0.0;
@@ -212,6 +220,11 @@ int run(const std::string& file, const std::string& only, int repeat, bool time)
       std::memcpy(&bits, &x, sizeof bits);
       hash = (hash ^ bits) * 1099511628211ull;
     }
+    if (answers_out)
+      std::fprintf(answers_out, "%s %d %s %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
+                   c.family.c_str(), s.pairs - 1, col::to_string(r.status), r.distance, r.error_bound, r.normal.x(),
+                   r.normal.y(), r.normal.z(), r.point_a.x(), r.point_a.y(), r.point_a.z(), r.point_b.x(),
+                   r.point_b.y(), r.point_b.z(), c.exact, c.exact_bound, c.size);
     if (fail) {
       ++s.failures;
       std::fprintf(stderr, "FAIL %s: got %.17g (%s), exact %.17g\n", c.family.c_str(), r.distance,
@@ -244,6 +257,7 @@ int run(const std::string& file, const std::string& only, int repeat, bool time)
     std::printf("\n");
   }
   std::printf("answers hash %016llx\n", static_cast<unsigned long long>(hash));
+  if (answers_out) std::fclose(answers_out);
   return failures == 0 ? 0 : 1;
 }
 
@@ -257,6 +271,7 @@ int main(int argc, char** argv) {
     std::string only;
     int repeat = 1;
     bool time = false;
+    std::string answers;
     for (int i = 3; i < argc; ++i) {
       const std::string arg = argv[i];
       if (arg == "--family" && i + 1 < argc)
@@ -265,10 +280,12 @@ int main(int argc, char** argv) {
         repeat = std::max(1, std::atoi(argv[++i]));
       else if (arg == "--time")
         time = true;
+      else if (arg == "--answers" && i + 1 < argc)
+        answers = argv[++i];
     }
-    return run(argv[2], only, repeat, time);
+    return run(argv[2], only, repeat, time, answers);
   }
   std::fprintf(stderr,
-               "usage: penetration_profile dump FILE FAMILY... | run FILE [--family NAME] [--repeat N] [--time]\n");
+               "usage: penetration_profile dump FILE FAMILY... | run FILE [--family NAME] [--repeat N] [--time] [--answers OUT]\n");
   return 2;
 }
