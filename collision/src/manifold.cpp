@@ -598,6 +598,18 @@ struct PolytopePair {
   Placement placed_b;
 };
 
+// The endpoints of edge ea of A and edge eb of B in A's core frame.
+struct EdgePairEnds {
+  Vec a0, a1, b0, b1;
+};
+
+EdgePairEnds edge_pair_ends(const PolytopePair& pp, Index ea, Index eb) {
+  const hull::HalfEdgeMesh& ma = *pp.pa.mesh;
+  const hull::HalfEdgeMesh& mb = *pp.pb.mesh;
+  return {pp.pa.vertex(ma.origin(ea)), pp.pa.vertex(ma.destination(ea)), pp.placed_b.point(pp.pb.vertex(mb.origin(eb))),
+          pp.placed_b.point(pp.pb.vertex(mb.destination(eb)))};
+}
+
 // The edge of `poly` at its support vertex in n (poly's frame) most nearly
 // perpendicular to n: where an edge-edge contact along n lies. Named by the
 // smaller of its half-edges (as SAT names edges).
@@ -718,11 +730,7 @@ bool rounded_apart_from_cache(const PolytopePair& pp, const WorldFrame& world, c
     // points inside the face.
     return face.kind != SatAxisKind::none && rounded_face_manifold(pp, world, face, axis.normal, nullptr, out);
   }
-  const hull::HalfEdgeMesh& ma = *pp.pa.mesh;
-  const hull::HalfEdgeMesh& mb = *pp.pb.mesh;
-  const Vec a0 = pp.pa.vertex(ma.origin(axis.feature_a)), a1 = pp.pa.vertex(ma.destination(axis.feature_a));
-  const Vec b0 = pp.placed_b.point(pp.pb.vertex(mb.origin(axis.feature_b)));
-  const Vec b1 = pp.placed_b.point(pp.pb.vertex(mb.destination(axis.feature_b)));
+  const auto [a0, a1, b0, b1] = edge_pair_ends(pp, axis.feature_a, axis.feature_b);
   Vec on_a, on_b;
   closest_segment_points(a0, a1 - a0, b0, b1 - b0, on_a, on_b);
   PenetrationResult p;  // as penetration() reports the rounded pair
@@ -853,12 +861,8 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
     return r;
   } else {
     out.path = ContactPath::edge;
-    const hull::HalfEdgeMesh& ma = *pp.pa.mesh;
-    const hull::HalfEdgeMesh& mb = *pp.pb.mesh;
     const Index ea = best.feature_a, eb = best.feature_b;
-    const Vec a0 = pp.pa.vertex(ma.origin(ea)), a1 = pp.pa.vertex(ma.destination(ea));
-    const Vec b0 = pp.placed_b.point(pp.pb.vertex(mb.origin(eb)));
-    const Vec b1 = pp.placed_b.point(pp.pb.vertex(mb.destination(eb)));
+    const auto [a0, a1, b0, b1] = edge_pair_ends(pp, ea, eb);
     Vec on_a, on_b;
     closest_segment_points(a0, a1 - a0, b0, b1 - b0, on_a, on_b);
     FeatureId id;
@@ -1000,9 +1004,7 @@ SatAxis cached_edge_axis(const PolytopePair& pp, const ContactCache& cache, cons
   const hull::HalfEdgeMesh& mb = *pp.pb.mesh;
   const Index ea = cache.feature, eb = cache.feature_b;
   if (ea >= ma.half_edge_count() || eb >= mb.half_edge_count()) return {};
-  const Vec a0 = pp.pa.vertex(ma.origin(ea)), a1 = pp.pa.vertex(ma.destination(ea));
-  const Vec b0 = pp.placed_b.point(pp.pb.vertex(mb.origin(eb)));
-  const Vec b1 = pp.placed_b.point(pp.pb.vertex(mb.destination(eb)));
+  const auto [a0, a1, b0, b1] = edge_pair_ends(pp, ea, eb);
   Vec u = (a1 - a0).cross(b1 - b0);
   const double len = u.norm();
   if (!(len > settings.parallel_tolerance * (a1 - a0).norm() * (b1 - b0).norm())) return {};
