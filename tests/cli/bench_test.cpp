@@ -233,7 +233,8 @@ TEST_F(Judging, DistanceIsAskedOnSeparatedPairsOnly) {
   EXPECT_FALSE(asks_about(QueryType::distance, c, 1e-6));
   EXPECT_TRUE(asks_about(QueryType::intersect, c, 1e-6));
   EXPECT_TRUE(asks_about(QueryType::penetration, c, 1e-6));
-  for (const BenchCase& t : make_family("touching", quick()).cases) EXPECT_FALSE(asks_about(QueryType::distance, t, 1e-6));
+  for (const BenchCase& t : make_family("touching", quick()).cases)
+    EXPECT_FALSE(asks_about(QueryType::distance, t, 1e-6));
   const BenchCase apart = make_family("poly-separated", quick()).cases.at(0);
   ASSERT_TRUE(asks_about(QueryType::distance, apart, 1e-6));
   MethodAnswer a;
@@ -548,8 +549,7 @@ TEST_F(BenchCli, QueryIntersectAndDistanceRuns) {
     ++hedra_cases;
     EXPECT_EQ(row.at("verdict"), "agree") << row.at("label");
     EXPECT_EQ(row.at("intersecting"), "0") << row.at("label");
-    EXPECT_LE(std::abs(std::stod(row.at("distance")) - std::stod(row.at("reference"))),
-              std::stod(row.at("tolerance")));
+    EXPECT_LE(std::abs(std::stod(row.at("distance")) - std::stod(row.at("reference"))), std::stod(row.at("tolerance")));
   }
   EXPECT_GT(hedra_cases, 0u);
 }

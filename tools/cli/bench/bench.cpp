@@ -130,8 +130,8 @@ std::vector<CaseResult> run_hedra(const FamilyRun& family, const Method& method,
       case QueryType::intersect: {
         const auto query = [&] { return collision::intersect(c.a, c.pose_a, c.b, c.pose_b, nullptr, settings.gjk); };
         const collision::IntersectResult r = query();
-        const double t = time_per_call([&] { sink = sink + (query().intersecting ? 1.0 : 0.0); }, options.loops,
-                                       options.loop_ns);
+        const double t =
+            time_per_call([&] { sink = sink + (query().intersecting ? 1.0 : 0.0); }, options.loops, options.loop_ns);
         answer = hedra_method_answer(method, r, t);
         break;
       }
@@ -246,8 +246,7 @@ std::vector<Method> all_methods(bool quick, QueryType query) {
 bool asks_about(QueryType query, const BenchCase& c, double fail_tolerance) {
   if (query != QueryType::distance) return true;
   const ReferenceAnswer& r = c.reference;
-  const double tolerance =
-      r.tolerance_from_scene ? r.tolerance : r.exact.error_bound + fail_tolerance * r.pair_size;
+  const double tolerance = r.tolerance_from_scene ? r.tolerance : r.exact.error_bound + fail_tolerance * r.pair_size;
   return r.exact.ok && r.exact.distance > tolerance;
 }
 

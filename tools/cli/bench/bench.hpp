@@ -101,11 +101,11 @@ std::vector<Method> all_methods(bool quick, QueryType query = QueryType::penetra
 
 struct BenchOptions {
   WorkloadOptions workload;
-  std::vector<std::string> families;  // empty: all
-  std::vector<std::string> methods;   // empty: all
-  std::string scene;                  // non-empty: this scene's queries instead of the families
+  std::vector<std::string> families;         // empty: all
+  std::vector<std::string> methods;          // empty: all
+  std::string scene;                         // non-empty: this scene's queries instead of the families
   QueryType query = QueryType::penetration;  // penetration, distance or intersect
-  double fail_tolerance = 1e-6;       // relative to the pair's size
+  double fail_tolerance = 1e-6;              // relative to the pair's size
   double peer_timeout_seconds = 5.0;
   int loops = 7;             // timed loops per case and method
   double loop_ns = 50000.0;  // target duration of one loop

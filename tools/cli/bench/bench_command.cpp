@@ -368,7 +368,8 @@ Subcommand add_bench_command(CLI::App& app) {
   command
       ->add_option("--method", options->methods,
                    "Run only this method (repeatable): hedra, hedra@1e-03 .. hedra@1e-12, or a peer's name "
-                   "(ccd_gjk_epa, ccd_mpr, fcl_libccd, fcl_indep, bullet_f32_gjk_epa, ...); hedra always runs")
+                   "(ccd_gjk_epa, ccd_mpr, fcl_libccd, fcl_indep, bullet_f32_gjk_epa, ...; ccd_gjk under --query "
+                   "intersect, which has no hedra@ sweep); hedra always runs")
       ->type_name("NAME");
   command->add_option("--scene", options->scene, "Benchmark this scene's queries instead of the families")
       ->type_name("FILE");

@@ -193,8 +193,8 @@ std::string stability_csv(const BenchReport& report) {
 
 std::string markdown_report(const BenchReport& report, const RunInfo& info) {
   std::ostringstream md;
-  md << "# hedra bench" << (report.query == QueryType::penetration ? "" : std::string(" --query ") + to_string(report.query))
-     << "\n\n";
+  md << "# hedra bench"
+     << (report.query == QueryType::penetration ? "" : std::string(" --query ") + to_string(report.query)) << "\n\n";
   md << "- date: " << info.date << "\n- machine: " << info.machine << "\n- command: `" << info.command << "`\n";
   md << "- workload: " << info.source << (info.quick ? " (quick)" : "") << ", seed " << info.seed << "\n";
   md << "- load average before / after: " << info.load_before << " / " << info.load_after << "\n";
@@ -252,16 +252,16 @@ std::string markdown_report(const BenchReport& report, const RunInfo& info) {
       report.query == QueryType::intersect &&
       std::any_of(report.methods.begin(), report.methods.end(), [](const Method& m) { return m.name == "ccd_gjk"; });
   md << "| family | hedra | fastest accurate peer | its time | hedra / peer |"
-     << (against_ccd_gjk ? " hedra / ccd_gjk |" : "") << "\n|---|---|---|---|---|"
-     << (against_ccd_gjk ? "---|" : "") << "\n";
+     << (against_ccd_gjk ? " hedra / ccd_gjk |" : "") << "\n|---|---|---|---|---|" << (against_ccd_gjk ? "---|" : "")
+     << "\n";
   for (const FamilyRun& family : report.families) {
     if (family.results.size() <= hedra_index) continue;
     const Summary h = summarize(family.results[hedra_index]);
     const std::optional<FastestPeer> peer = fastest_accurate_peer(report, family);
     md << "| " << family.name << " | " << time_cell(h.time_median_ns) << " | ";
     if (peer && h.time_median_ns > 0) {
-      md << peer->name << " | " << time_cell(peer->median_ns) << " | " << fmt("%.2f", h.time_median_ns / peer->median_ns)
-         << " |";
+      md << peer->name << " | " << time_cell(peer->median_ns) << " | "
+         << fmt("%.2f", h.time_median_ns / peer->median_ns) << " |";
     } else {
       md << "none | - | - |";
     }
