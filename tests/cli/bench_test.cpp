@@ -198,6 +198,83 @@ TEST_F(Judging, FailedUnsupportedAndNanAnswers) {
   EXPECT_EQ(s.failure_kinds, std::vector<std::string>{"failed: crashed (signal 11) x1"});
 }
 
+// --query intersect judges the verdict alone: the reference's sign beyond
+// the tolerance, either verdict on a touching pair.
+TEST_F(Judging, IntersectJudgesTheVerdictAlone) {
+  ASSERT_LT(c.reference.exact.distance, -1e-3 * c.reference.pair_size);
+  MethodAnswer a;
+  a.method = "x";
+  a.intersecting = true;
+  const CaseResult right = judge_case(c, hedra, a, 1e-6, QueryType::intersect);
+  EXPECT_FALSE(right.failure) << right.judgement.detail;
+  EXPECT_EQ(right.judgement.verdict, Verdict::agree);
+  EXPECT_FALSE(right.abs_error.has_value());
+  a.intersecting = false;
+  const CaseResult wrong = judge_case(c, hedra, a, 1e-6, QueryType::intersect);
+  EXPECT_TRUE(wrong.failure);
+  EXPECT_EQ(wrong.failure_kind, "classification");
+  // A distance, however wrong, is not what intersect asks.
+  a.intersecting = true;
+  a.distance = 1e3;
+  EXPECT_FALSE(judge_case(c, peer, a, 1e-6, QueryType::intersect).failure);
+
+  for (const BenchCase& t : make_family("touching", quick()).cases) {
+    for (const bool verdict : {true, false}) {
+      MethodAnswer b;
+      b.intersecting = verdict;
+      EXPECT_FALSE(judge_case(t, peer, b, 1e-6, QueryType::intersect).failure) << t.label << " " << verdict;
+    }
+  }
+}
+
+// --query distance asks only pairs separated beyond the tolerance, and
+// judges them as penetration does.
+TEST_F(Judging, DistanceIsAskedOnSeparatedPairsOnly) {
+  EXPECT_FALSE(asks_about(QueryType::distance, c, 1e-6));
+  EXPECT_TRUE(asks_about(QueryType::intersect, c, 1e-6));
+  EXPECT_TRUE(asks_about(QueryType::penetration, c, 1e-6));
+  for (const BenchCase& t : make_family("touching", quick()).cases)
+    EXPECT_FALSE(asks_about(QueryType::distance, t, 1e-6));
+  const BenchCase apart = make_family("poly-separated", quick()).cases.at(0);
+  ASSERT_TRUE(asks_about(QueryType::distance, apart, 1e-6));
+  MethodAnswer a;
+  a.distance = apart.reference.exact.distance;
+  a.normal = apart.reference.exact.normal;
+  EXPECT_FALSE(judge_case(apart, hedra, a, 1e-6, QueryType::distance).failure);
+  a.intersecting = true;  // an overlap verdict on a separated pair
+  EXPECT_EQ(judge_case(apart, hedra, a, 1e-6, QueryType::distance).failure_kind, "classification");
+  a.intersecting = false;
+  *a.distance += 3e-6 * apart.reference.pair_size;
+  EXPECT_EQ(judge_case(apart, peer, a, 1e-6, QueryType::distance).failure_kind, "error");
+
+  FamilyRun family;
+  family.cases = {c, apart};
+  BenchOptions options;
+  options.query = QueryType::distance;
+  keep_asked_cases(family, options);
+  ASSERT_EQ(family.cases.size(), 1u);
+  EXPECT_EQ(family.cases[0].label, apart.label);
+  EXPECT_EQ(family.skipped, 1u);
+}
+
+TEST(BenchQueries, MethodsPerQuery) {
+  const auto names = [](QueryType q) {
+    std::set<std::string> out;
+    for (const Method& m : all_methods(true, q)) out.insert(m.name);
+    return out;
+  };
+  EXPECT_EQ(names(QueryType::penetration), names(QueryType::distance));
+  EXPECT_EQ(names(QueryType::penetration).count("ccd_gjk"), 0u);
+  EXPECT_EQ(names(QueryType::intersect).count("hedra@1e-03"), 0u);
+  EXPECT_EQ(names(QueryType::intersect).count("hedra"), 1u);
+#if defined(HEDRA_COMPARE_WITH_PEERS)
+  EXPECT_EQ(names(QueryType::intersect).count("ccd_gjk"), 1u);
+#endif
+  EXPECT_EQ(find_bench_query("distance"), QueryType::distance);
+  EXPECT_EQ(find_bench_query("intersect"), QueryType::intersect);
+  EXPECT_EQ(find_bench_query("contact"), std::nullopt);
+}
+
 TEST(BenchSummary, MediansAndNearestRankPercentiles) {
   std::vector<CaseResult> results;
   for (int k = 1; k <= 100; ++k) {
@@ -416,6 +493,67 @@ TEST_F(BenchCli, ASceneIsBenchmarkedQueryByQuery) {
   EXPECT_FALSE(fs::exists(out / "error_vs_time.png"));
 }
 
+// --query intersect and --query distance end to end: the report, and every
+// hedra verdict against the reference's sign as cases.csv records it.
+TEST_F(BenchCli, QueryIntersectAndDistanceRuns) {
+  const fs::path out = dir_ / "intersect";
+  const RunResult result = run({"bench", "--quick", "--query", "intersect", "--family", "poly-separated", "--family",
+                                "poly-penetrating", "--family", "touching", "--loops", "1", "--out", out.string()});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out.rfind("# hedra bench --query intersect", 0), 0u);
+  EXPECT_EQ(result.out, slurp(out / "report.md"));
+  EXPECT_NE(result.out.find("## Against the fastest accurate peer"), std::string::npos);
+  EXPECT_NE(result.err.find("no plots for --query intersect"), std::string::npos) << result.err;
+  const std::string header =
+      "family,case,label,parameter,method,supported,status,verdict,failure,intersecting,distance,reference,"
+      "reference_error_bound,pair_size,tolerance,abs_error,rel_error,normal_angle,time_ns";
+  std::map<std::string, int> hedra_rows;
+  std::set<std::string> methods_seen;
+  for (const auto& row : records(slurp(out / "cases.csv"), header)) {
+    methods_seen.insert(row.at("method"));
+    EXPECT_TRUE(row.at("distance").empty()) << "intersect answers no distance";
+    if (row.at("method") != "hedra") continue;
+    ++hedra_rows[row.at("family")];
+    const double sd = std::stod(row.at("reference"));
+    const std::string where = row.at("family") + " " + row.at("label");
+    EXPECT_EQ(row.at("verdict"), "agree") << where;
+    if (row.at("family") == "poly-separated") {
+      EXPECT_EQ(row.at("intersecting"), "0") << where;
+    }
+    if (row.at("family") == "poly-penetrating") {
+      EXPECT_EQ(row.at("intersecting"), "1") << where;
+    }
+    if (std::abs(sd) > std::stod(row.at("tolerance"))) {
+      EXPECT_EQ(row.at("intersecting"), sd < 0 ? "1" : "0") << where;
+    }
+    EXPECT_GT(std::stod(row.at("time_ns")), 0.0) << where;
+  }
+  EXPECT_EQ(hedra_rows.size(), 3u);
+  EXPECT_EQ(methods_seen.count("hedra@1e-03"), 0u);
+#if defined(HEDRA_COMPARE_WITH_PEERS)
+  EXPECT_EQ(methods_seen.count("ccd_gjk"), 1u);
+  EXPECT_NE(result.out.find("hedra / ccd_gjk"), std::string::npos);
+#endif
+
+  const fs::path dout = dir_ / "distance";
+  const RunResult d = run({"bench", "--quick", "--query", "distance", "--family", "poly-separated", "--family",
+                           "poly-penetrating", "--no-plots", "--loops", "1", "--out", dout.string()});
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  EXPECT_EQ(d.out.rfind("# hedra bench --query distance", 0), 0u);
+  EXPECT_NE(d.err.find("not separated beyond the tolerance: not asked"), std::string::npos) << d.err;
+  std::size_t hedra_cases = 0;
+  for (const auto& row : records(slurp(dout / "cases.csv"), header)) {
+    EXPECT_EQ(row.at("family"), "poly-separated") << "no pair of poly-penetrating is separated";
+    EXPECT_GT(std::stod(row.at("reference")), 0.0);
+    if (row.at("method") != "hedra") continue;
+    ++hedra_cases;
+    EXPECT_EQ(row.at("verdict"), "agree") << row.at("label");
+    EXPECT_EQ(row.at("intersecting"), "0") << row.at("label");
+    EXPECT_LE(std::abs(std::stod(row.at("distance")) - std::stod(row.at("reference"))), std::stod(row.at("tolerance")));
+  }
+  EXPECT_GT(hedra_cases, 0u);
+}
+
 TEST_F(BenchCli, BadInputExitsTwoAndWritesNothing) {
   const fs::path out = dir_ / "never";
   expect_bad({"bench", "--family", "nope", "--out", out.string()}, {"unknown family 'nope'", "poly-separated"});
@@ -426,6 +564,11 @@ TEST_F(BenchCli, BadInputExitsTwoAndWritesNothing) {
                                       "\"radius\": -1}}, \"bodies\": {}, \"queries\": []}");
   expect_bad({"bench", "--scene", bad_scene, "--out", out.string()}, {"bad.json", "radius"});
   expect_bad({"bench", "--loops", "0", "--out", out.string()}, {"loops"});
+  expect_bad({"bench", "--query", "contact", "--out", out.string()},
+             {"--query: unknown query 'contact'", "penetration, distance, intersect"});
+  expect_bad({"bench", "--continuous", "--query", "distance", "--out", out.string()}, {"--continuous"});
+  expect_bad({"bench", "--query", "intersect", "--method", "hedra@1e-03", "--out", out.string()},
+             {"unknown method 'hedra@1e-03'", "--query intersect"});
   EXPECT_FALSE(fs::exists(out)) << "bad input must not create the output directory";
   const std::string file = write("a_file", "x");
   expect_bad({"bench", "--quick", "--family", "touching", "--out", file + "/sub"}, {"cannot create"});

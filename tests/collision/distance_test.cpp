@@ -382,6 +382,43 @@ TEST(GjkHardCases, ScaleDisparityAndThinShapes) {
   EXPECT_LT((r.normal - Vec::UnitZ()).norm(), 1e-9);  // rounding of 1e3 coordinates / 3e-3
 }
 
+// intersect() tests the start axis (the centre difference, or the cache's
+// axis) before its loop: a pair that axis separates beyond the margin stops
+// after one support call; within the margin it must not.
+TEST(GjkIntersect, StopsOnASeparatingStartAxisOnly) {
+  const Box unit{{0.5, 0.5, 0.5}, 0.0};
+  const IntersectResult apart = intersect(unit, Pose::identity(), unit, Pose::from_translation({3.0, 0.2, 0.0}));
+  EXPECT_EQ(apart.status, Status::ok);
+  EXPECT_FALSE(apart.intersecting);
+  EXPECT_EQ(apart.iterations, 0);
+  EXPECT_EQ(apart.support_calls, 1);
+  // Spheres: point cores with the radii as margin (2), the centres 2.5 and
+  // 1.5 apart: the start axis separates the first pair only.
+  const Sphere one{1.0, 0.0};
+  const IntersectResult far = intersect(one, Pose::identity(), one, Pose::from_translation({2.5, 0.0, 0.0}));
+  EXPECT_FALSE(far.intersecting);
+  EXPECT_EQ(far.iterations, 0);
+  const IntersectResult near = intersect(one, Pose::identity(), one, Pose::from_translation({1.5, 0.0, 0.0}));
+  EXPECT_EQ(near.status, Status::ok);
+  EXPECT_TRUE(near.intersecting);
+  // The centre difference does not separate two long bars crossed beside
+  // each other (it points across both): the loop decides, and agrees with
+  // distance().
+  const Box bar{{2.0, 0.1, 0.1}, 0.0};
+  const Pose turned{Eigen::AngleAxisd(0.5 * M_PI, Vec::UnitZ()).toRotationMatrix(), Vec(1.5, 1.5, 0.0)};
+  const IntersectResult crossed = intersect(bar, Pose::identity(), bar, turned);
+  const DistanceResult d = distance(bar, Pose::identity(), bar, turned);
+  EXPECT_EQ(crossed.intersecting, d.intersecting);
+  // A cache holding a separating axis: the next query stops on it.
+  GjkCache cache;
+  const Pose moved = Pose::from_translation({0.0, 0.0, 1.2});
+  const IntersectResult first = intersect(unit, Pose::identity(), unit, moved, &cache);
+  EXPECT_FALSE(first.intersecting);
+  const IntersectResult again = intersect(unit, Pose::identity(), unit, moved, &cache);
+  EXPECT_FALSE(again.intersecting);
+  EXPECT_EQ(again.iterations, 0);
+}
+
 TEST(GjkHardCases, ExactTouchingFaceEdgeVertex) {
   const Box unit{{0.5, 0.5, 0.5}, 0.0};
   // Face, edge and vertex contact of two axis-aligned unit cubes.

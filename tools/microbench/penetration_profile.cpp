@@ -3,7 +3,7 @@
 //   penetration_cases dump FILE FAMILY...   generate the bench's pairs of
 //       those families (seed 1, tools/cli/bench/workloads.cpp) with their exact
 //       references and write them to FILE (text, %.17g: replayed bit for bit)
-//   penetration_profile run FILE [--family NAME] [--repeat N] [--time] [--answers OUT]
+//   penetration_profile run FILE [--family NAME] [--repeat N] [--time] [--answers OUT] [--query Q]
 //       replay them: N penetration() calls per pair (cold, as the bench
 //       runs hedra), then per family the queries, the largest error against
 //       the reference (absolute and relative to the pair's size), failures
@@ -15,6 +15,13 @@
 //       --answers OUT writes every answer (family, index, status, distance,
 //       error bound, normal, witnesses, the exact distance, its bound and the
 //       pair's size; %.17g) to compare two builds answer by answer.
+//       --query distance: distance() instead, on the pairs `hedra bench
+//       --query distance` asks (exact distance above its bound + 1e-6 size),
+//       failures by the same rules (an overlap verdict, an error, a normal);
+//       --query intersect: intersect() on every pair, a failure being a
+//       verdict other than the exact sign where |exact| exceeds that
+//       tolerance, or a status other than ok; the hash covers what each
+//       query answers (distance, normal, witnesses; the verdict).
 // Two executables from this file: penetration_cases (with the bench's
 // workloads, for `dump`) and penetration_profile (`run` only, so that a
 // change to the collision headers rebuilds little).
@@ -23,7 +30,8 @@
 // the hulls) stays outside `hedra::collision::penetration`, so
 //   valgrind --tool=callgrind --toggle-collect='hedra::collision::penetration(*'
 //            build/bin/penetration_profile run FILE --family poly-penetrating
-// counts the queries alone; divide the total by the queries printed.
+// counts the queries alone; divide the total by the queries printed (with
+// --query, toggle on 'hedra::collision::distance(*' or '...intersect(*').
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -261,6 +269,97 @@ int run(const std::string& file, const std::string& only, int repeat, bool time,
   return failures == 0 ? 0 : 1;
 }
 
+// --query distance | intersect: the same replay for distance() or intersect().
+int run_query(const std::string& file, const std::string& only, int repeat, bool time, bool distance) {
+  struct Stats {
+    int queries = 0, failures = 0, iterations = 0, calls = 0, pairs = 0, skipped = 0;
+    double max_abs = 0.0, max_rel = 0.0;
+    std::vector<double> ns;
+  };
+  std::map<std::string, Stats> stats;
+  std::vector<std::string> order;
+  std::uint64_t hash = 14695981039346656037ull;
+  const auto mix = [&hash](double x) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    hash = (hash ^ bits) * 1099511628211ull;
+  };
+  for (const Case& c : load(file, only)) {
+    if (!stats.count(c.family)) order.push_back(c.family);
+    Stats& s = stats[c.family];
+    const double tolerance = c.exact_bound + 1e-6 * c.size;
+    if (distance && !(c.exact > tolerance)) {
+      ++s.skipped;
+      continue;
+    }
+    bool fail = false;
+    if (distance) {
+      col::DistanceResult r;
+      for (int k = 0; k < repeat; ++k) {
+        r = col::distance(c.a, c.pose_a, c.b, c.pose_b);
+        sink += r.distance;
+      }
+      s.iterations += r.iterations;
+      s.calls += r.support_calls;
+      const double err = std::abs(r.distance - c.exact);
+      s.max_abs = std::max(s.max_abs, err);
+      s.max_rel = std::max(s.max_rel, err / c.size);
+      fail = r.intersecting || !(err <= tolerance) || r.status == col::Status::max_iterations ||
+             r.status == col::Status::degenerate;
+      if (c.normal_unique && !(std::atan2(r.normal.cross(c.normal).norm(), r.normal.dot(c.normal)) <= 1e-3))
+        fail = true;
+      for (const double x : {r.distance, r.normal.x(), r.normal.y(), r.normal.z(), r.point_a.x(), r.point_b.z()})
+        mix(x);
+    } else {
+      col::IntersectResult r;
+      for (int k = 0; k < repeat; ++k) {
+        r = col::intersect(c.a, c.pose_a, c.b, c.pose_b);
+        sink += r.intersecting ? 1.0 : 0.0;
+      }
+      s.iterations += r.iterations;
+      s.calls += r.support_calls;
+      fail = r.status != col::Status::ok || (std::abs(c.exact) > tolerance && r.intersecting != (c.exact < 0));
+      mix(r.intersecting ? 1.0 : 0.0);
+      mix(static_cast<double>(r.status));
+    }
+    s.queries += repeat;
+    ++s.pairs;
+    if (fail) {
+      ++s.failures;
+      std::fprintf(stderr, "FAIL %s %d: exact %.17g\n", c.family.c_str(), s.pairs - 1, c.exact);
+    }
+    if (time) {
+      std::vector<double> loops;
+      for (int loop = 0; loop < 7; ++loop) {
+        const int k = 200;
+        const auto t0 = std::chrono::steady_clock::now();
+        for (int i = 0; i < k; ++i)
+          sink += distance ? col::distance(c.a, c.pose_a, c.b, c.pose_b).distance
+                           : (col::intersect(c.a, c.pose_a, c.b, c.pose_b).intersecting ? 1.0 : 0.0);
+        const auto t1 = std::chrono::steady_clock::now();
+        loops.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / k);
+      }
+      std::nth_element(loops.begin(), loops.begin() + 3, loops.end());
+      s.ns.push_back(loops[3]);
+    }
+  }
+  int failures = 0;
+  for (const std::string& f : order) {
+    Stats& s = stats[f];
+    failures += s.failures;
+    std::printf("%-18s pairs %4d queries %6d failures %d max_abs %.3g max_rel %.3g gjk %.2f calls %.2f skipped %d",
+                f.c_str(), s.pairs, s.queries, s.failures, s.max_abs, s.max_rel,
+                s.pairs ? double(s.iterations) / s.pairs : 0.0, s.pairs ? double(s.calls) / s.pairs : 0.0, s.skipped);
+    if (time && !s.ns.empty()) {
+      std::nth_element(s.ns.begin(), s.ns.begin() + s.ns.size() / 2, s.ns.end());
+      std::printf(" median_ns %.0f", s.ns[s.ns.size() / 2]);
+    }
+    std::printf("\n");
+  }
+  std::printf("answers hash %016llx\n", static_cast<unsigned long long>(hash));
+  return failures == 0 ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -271,7 +370,7 @@ int main(int argc, char** argv) {
     std::string only;
     int repeat = 1;
     bool time = false;
-    std::string answers;
+    std::string answers, query = "penetration";
     for (int i = 3; i < argc; ++i) {
       const std::string arg = argv[i];
       if (arg == "--family" && i + 1 < argc)
@@ -282,10 +381,18 @@ int main(int argc, char** argv) {
         time = true;
       else if (arg == "--answers" && i + 1 < argc)
         answers = argv[++i];
+      else if (arg == "--query" && i + 1 < argc)
+        query = argv[++i];
+    }
+    if (query == "distance" || query == "intersect") return run_query(argv[2], only, repeat, time, query == "distance");
+    if (query != "penetration") {
+      std::fprintf(stderr, "penetration_profile: --query: penetration, distance or intersect\n");
+      return 2;
     }
     return run(argv[2], only, repeat, time, answers);
   }
   std::fprintf(stderr,
-               "usage: penetration_profile dump FILE FAMILY... | run FILE [--family NAME] [--repeat N] [--time] [--answers OUT]\n");
+               "usage: penetration_profile dump FILE FAMILY... | run FILE [--family NAME] [--repeat N] [--time] [--answers OUT] "
+               "[--query penetration|distance|intersect]\n");
   return 2;
 }

@@ -80,6 +80,35 @@ MethodAnswer hedra_method_answer(const Method& method, const collision::Penetrat
   return m;
 }
 
+// distance(): as penetration's, the distance >= 0 (0 when it says the
+// shapes touch or overlap: then no normal nor witnesses).
+MethodAnswer hedra_method_answer(const Method& method, const collision::DistanceResult& r, double time_ns) {
+  collision::PenetrationResult p;
+  p.status = r.status;
+  p.intersecting = r.intersecting;
+  p.distance = r.distance;
+  p.normal = r.normal;
+  p.point_a = r.point_a;
+  p.point_b = r.point_b;
+  MethodAnswer m = hedra_method_answer(method, p, time_ns);
+  if (r.intersecting) m.point_a = m.point_b = std::nullopt;
+  return m;
+}
+
+// intersect(): the verdict alone, defined only when ok (a stall or a cap
+// leaves no verdict: a failure).
+MethodAnswer hedra_method_answer(const Method& method, const collision::IntersectResult& r, double time_ns) {
+  MethodAnswer m;
+  m.method = method.name;
+  m.description = method.description;
+  m.supported = true;
+  m.status = collision::to_string(r.status);
+  m.ok = r.status == collision::Status::ok;
+  m.intersecting = r.intersecting;
+  m.time_ns = time_ns;
+  return m;
+}
+
 std::vector<CaseResult> run_hedra(const FamilyRun& family, const Method& method, const BenchOptions& options) {
   collision::PenetrationSettings settings;
   if (!method.is_default) {
@@ -89,27 +118,59 @@ std::vector<CaseResult> run_hedra(const FamilyRun& family, const Method& method,
   std::vector<CaseResult> out;
   volatile double sink = 0.0;
   for (const BenchCase& c : family.cases) {
-    const collision::PenetrationResult r = collision::penetration(c.a, c.pose_a, c.b, c.pose_b, nullptr, settings);
-    const double t = time_per_call(
-        [&] { sink = sink + collision::penetration(c.a, c.pose_a, c.b, c.pose_b, nullptr, settings).distance; },
-        options.loops, options.loop_ns);
-    out.push_back(judge_case(c, method, hedra_method_answer(method, r, t), options.fail_tolerance));
+    MethodAnswer answer;
+    switch (options.query) {
+      case QueryType::distance: {
+        const auto query = [&] { return collision::distance(c.a, c.pose_a, c.b, c.pose_b, nullptr, settings.gjk); };
+        const collision::DistanceResult r = query();
+        const double t = time_per_call([&] { sink = sink + query().distance; }, options.loops, options.loop_ns);
+        answer = hedra_method_answer(method, r, t);
+        break;
+      }
+      case QueryType::intersect: {
+        const auto query = [&] { return collision::intersect(c.a, c.pose_a, c.b, c.pose_b, nullptr, settings.gjk); };
+        const collision::IntersectResult r = query();
+        const double t =
+            time_per_call([&] { sink = sink + (query().intersecting ? 1.0 : 0.0); }, options.loops, options.loop_ns);
+        answer = hedra_method_answer(method, r, t);
+        break;
+      }
+      default: {
+        const auto query = [&] { return collision::penetration(c.a, c.pose_a, c.b, c.pose_b, nullptr, settings); };
+        const collision::PenetrationResult r = query();
+        const double t = time_per_call([&] { sink = sink + query().distance; }, options.loops, options.loop_ns);
+        answer = hedra_method_answer(method, r, t);
+        break;
+      }
+    }
+    out.push_back(judge_case(c, method, std::move(answer), options.fail_tolerance, options.query));
   }
   return out;
 }
 
 #if defined(HEDRA_COMPARE_WITH_PEERS)
+peers::PeerQuery peer_query(QueryType query) {
+  switch (query) {
+    case QueryType::distance:
+      return peers::PeerQuery::distance;
+    case QueryType::intersect:
+      return peers::PeerQuery::intersect;
+    default:
+      return peers::PeerQuery::penetration;
+  }
+}
+
 std::vector<CaseResult> run_peer(const FamilyRun& family, const Method& method, const BenchOptions& options) {
   const peers::PeerMethod& peer = *method.peer;
+  const peers::PeerQuery asked = peer_query(options.query);
   std::vector<peers::PeerPair> pairs;
   for (const BenchCase& c : family.cases) pairs.push_back({c.a, c.pose_a, c.b, c.pose_b});
   // In the child: convert, answer once, then time the query alone.
   auto call = [&](std::size_t k) {
     const std::unique_ptr<peers::PreparedPair> prepared = peer.prepare(pairs[k]);
-    peers::PeerResult result = prepared->query(peers::PeerQuery::penetration);
+    peers::PeerResult result = prepared->query(asked);
     if (result.supported) {
-      result.time_ns =
-          time_per_call([&] { prepared->query(peers::PeerQuery::penetration); }, options.loops, options.loop_ns);
+      result.time_ns = time_per_call([&] { prepared->query(asked); }, options.loops, options.loop_ns);
     }
     return result;
   };
@@ -120,8 +181,8 @@ std::vector<CaseResult> run_peer(const FamilyRun& family, const Method& method, 
   const std::vector<peers::PeerResult> results = peers::run_isolated(call, pairs.size(), isolation);
   std::vector<CaseResult> out;
   for (std::size_t k = 0; k < results.size(); ++k) {
-    out.push_back(judge_case(family.cases[k], method, peer_answer(peer, QueryType::penetration, results[k]),
-                             options.fail_tolerance));
+    out.push_back(judge_case(family.cases[k], method, peer_answer(peer, options.query, results[k]),
+                             options.fail_tolerance, options.query));
   }
   return out;
 }
@@ -134,28 +195,44 @@ std::vector<double> hedra_tolerances(bool quick) {
   return {1e-3, 1e-4, 1e-6, 1e-8, 1e-12};
 }
 
-std::vector<Method> all_methods(bool quick) {
+std::vector<QueryType> bench_queries() { return {QueryType::penetration, QueryType::distance, QueryType::intersect}; }
+
+std::optional<QueryType> find_bench_query(const std::string& name) {
+  for (const QueryType q : bench_queries())
+    if (name == to_string(q)) return q;
+  return std::nullopt;
+}
+
+std::vector<Method> all_methods(bool quick, QueryType query) {
   std::vector<Method> methods;
   Method hedra;
   hedra.name = "hedra";
-  hedra.description = "hedra: GJK, then EPA when the cores overlap (default tolerance 1e-10)";
+  hedra.description = query == QueryType::distance    ? "hedra: distance(), GJK (default tolerance 1e-10)"
+                      : query == QueryType::intersect ? "hedra: intersect(), GJK to the first separating axis"
+                                                      : "hedra: GJK, then EPA when the cores overlap (default "
+                                                        "tolerance 1e-10)";
   hedra.is_hedra = true;
   hedra.is_default = true;
   hedra.tolerance = kDefaultTolerance;
   methods.push_back(hedra);
-  for (const double t : hedra_tolerances(quick)) {
-    Method m;
-    m.name = "hedra@" + tolerance_text(t);
-    m.description = "hedra with GJK and EPA tolerances " + tolerance_text(t);
-    m.is_hedra = true;
-    m.tolerance = t;
-    methods.push_back(m);
+  // intersect() has no tolerance to sweep but that of touching pairs.
+  if (query != QueryType::intersect) {
+    for (const double t : hedra_tolerances(quick)) {
+      Method m;
+      m.name = "hedra@" + tolerance_text(t);
+      m.description = "hedra with GJK" + std::string(query == QueryType::penetration ? " and EPA" : "") +
+                      " tolerances " + tolerance_text(t);
+      m.is_hedra = true;
+      m.tolerance = t;
+      methods.push_back(m);
+    }
   }
 #if defined(HEDRA_COMPARE_WITH_PEERS)
   for (const peers::PeerMethod& peer : peers::peer_methods()) {
     // libccd's plain GJK answers the boolean only: nothing to measure an
-    // error on, and its time is that of another question.
-    if (std::string(peer.name) == "ccd_gjk") continue;
+    // error on, and its time is that of another question (except under
+    // intersect, where it is the question).
+    if (std::string(peer.name) == "ccd_gjk" && query != QueryType::intersect) continue;
     Method m;
     m.name = peer.name;
     m.description = peer.description;
@@ -166,7 +243,27 @@ std::vector<Method> all_methods(bool quick) {
   return methods;
 }
 
-CaseResult judge_case(const BenchCase& c, const Method& method, MethodAnswer answer, double fail_tolerance) {
+bool asks_about(QueryType query, const BenchCase& c, double fail_tolerance) {
+  if (query != QueryType::distance) return true;
+  const ReferenceAnswer& r = c.reference;
+  const double tolerance = r.tolerance_from_scene ? r.tolerance : r.exact.error_bound + fail_tolerance * r.pair_size;
+  return r.exact.ok && r.exact.distance > tolerance;
+}
+
+void keep_asked_cases(FamilyRun& family, const BenchOptions& options) {
+  std::vector<BenchCase> kept;
+  for (BenchCase& c : family.cases) {
+    if (asks_about(options.query, c, options.fail_tolerance)) {
+      kept.push_back(std::move(c));
+    } else {
+      ++family.skipped;
+    }
+  }
+  family.cases = std::move(kept);
+}
+
+CaseResult judge_case(const BenchCase& c, const Method& method, MethodAnswer answer, double fail_tolerance,
+                      QueryType query) {
   ReferenceAnswer reference = c.reference;
   const double requested = method.is_hedra ? method.tolerance : 0.0;
   if (!reference.tolerance_from_scene) {
@@ -181,7 +278,9 @@ CaseResult judge_case(const BenchCase& c, const Method& method, MethodAnswer ans
   reference.angle_tolerance = 2.0 * requested > fail_tolerance ? M_PI : kAngleTolerance;
   CaseResult r;
   r.tolerance = reference.tolerance;
-  r.judgement = judge(QueryType::penetration, reference, answer);
+  // judge() holds the rules per query: intersect compares the verdict only;
+  // distance compares against max(sd, 0) (sd > 0 on the pairs it is asked).
+  r.judgement = judge(query, reference, answer);
   // Failed answers that still carry a distance (hedra's best so far at a
   // cap) are measured too: they count as failures all the same.
   if (answer.distance && std::isfinite(*answer.distance)) {
@@ -302,10 +401,14 @@ std::vector<FamilyRun> generate_families(const BenchOptions& options, std::ostre
     run.dropped = made.dropped;
     run.notes = std::move(made.notes);
     run.reference_seconds = seconds_since(start);
-    char line[160];
-    std::snprintf(line, sizeof line, "bench: %-16s %3zu cases with exact references (%.1f s)%s\n", info.name,
+    keep_asked_cases(run, options);
+    char line[200];
+    std::snprintf(line, sizeof line, "bench: %-16s %3zu cases with exact references (%.1f s)%s", info.name,
                   run.cases.size(), run.reference_seconds, run.dropped ? ", some dropped" : "");
-    progress << line << std::flush;
+    progress << line;
+    if (run.skipped) progress << ", " << run.skipped << " not separated beyond the tolerance: not asked";
+    progress << "\n" << std::flush;
+    if (run.cases.empty()) continue;  // nothing asked (distance on overlapping families)
     runs.push_back(std::move(run));
   }
   return runs;
@@ -315,6 +418,7 @@ BenchReport run_bench(const BenchOptions& options, const std::vector<Method>& me
                       std::ostream& progress) {
   const Clock::time_point start = Clock::now();
   BenchReport report;
+  report.query = options.query;
   report.methods = methods;
 #if defined(HEDRA_COMPARE_WITH_PEERS)
   report.peers_built = true;

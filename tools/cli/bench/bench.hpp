@@ -10,6 +10,22 @@
 //   peers          every method of tools/peers (peers.hpp lists them), with
 //                  their own primitives and convex-hull types, asked the
 //                  same signed-distance question (PeerQuery::penetration)
+//
+// The question (BenchOptions::query, `--query`):
+//   penetration    the above (the default): every pair, signed distance
+//   distance       collision::distance (and the sweep's GJK tolerances)
+//                  against PeerQuery::distance, on each family's separated
+//                  pairs only (exact signed distance above the tolerance
+//                  below, error bound plus fail_tolerance of the size: no
+//                  touching pair), judged on the verdict, the distance and
+//                  the normal as penetration is
+//   intersect      collision::intersect (hedra's default only: it has no
+//                  tolerance to sweep but the touching one) against
+//                  PeerQuery::intersect, libccd's plain GJK (ccd_gjk,
+//                  ccdGJKIntersect) included, on every pair, judged on the
+//                  verdict alone: it must be the reference's sign where
+//                  |sd| exceeds the tolerance; within it (touching pairs)
+//                  either verdict is right
 // Every method gets every case; a peer that cannot pose a case (FCL has no
 // margins nor flat hulls, libccd gives no distance between separated
 // shapes) says so and is counted as unsupported or partial, never faked.
@@ -23,9 +39,9 @@
 // forked children under a watchdog (isolation.hpp), one batch per family
 // and method, so a crash or a hang costs one case, never the run.
 //
-// Errors: absolute, |d - sd| for polytope cores (exact up to rounding),
-// for curved pairs the distance from d to the reference's certified
-// bracket [lower, upper];
+// Errors (penetration and distance): absolute, |d - sd| for polytope cores
+// (exact up to rounding), for curved pairs the distance from d to the
+// reference's certified bracket [lower, upper];
 // relative = absolute / the pair's size (the larger bounding radius, as
 // `hedra compare` measures it). Normal angles where the reference says the
 // normal is unique.
@@ -35,7 +51,8 @@
 // a normal more than the angle tolerance off a unique reference normal;
 // NaN or infinity; an exception, crash or timeout; an iteration or capacity
 // cap (hedra's max_iterations and polytope_full, peers' error codes).
-// hedra's `stalled` (rounding stopped progress) is judged by its answer.
+// hedra's `stalled` (rounding stopped progress) is judged by its answer,
+// except under intersect, whose verdict is defined only when ok.
 // Tolerances, for a method that asked for tolerance T (peers: T = 0):
 //   distance  reference error bound + max(fail_tolerance, 2 T) * size
 //   normal    1e-3 rad, judged only where 2 T <= fail_tolerance (a looser
@@ -45,6 +62,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -72,15 +90,22 @@ struct Method {
 // hedra's tolerance sweep (the default, 1e-10, is the method "hedra").
 std::vector<double> hedra_tolerances(bool quick);
 
-// Every method of this build: hedra, its sweep, then the peers (when built).
-std::vector<Method> all_methods(bool quick);
+// The questions `--query` names: penetration, distance, intersect.
+std::vector<QueryType> bench_queries();
+std::optional<QueryType> find_bench_query(const std::string& name);
+
+// Every method of this build for `query`: hedra, its sweep (not for
+// intersect), then the peers (when built) that can answer it (ccd_gjk only
+// for intersect: it gives no distance).
+std::vector<Method> all_methods(bool quick, QueryType query = QueryType::penetration);
 
 struct BenchOptions {
   WorkloadOptions workload;
-  std::vector<std::string> families;  // empty: all
-  std::vector<std::string> methods;   // empty: all
-  std::string scene;                  // non-empty: this scene's queries instead of the families
-  double fail_tolerance = 1e-6;       // relative to the pair's size
+  std::vector<std::string> families;         // empty: all
+  std::vector<std::string> methods;          // empty: all
+  std::string scene;                         // non-empty: this scene's queries instead of the families
+  QueryType query = QueryType::penetration;  // penetration, distance or intersect
+  double fail_tolerance = 1e-6;              // relative to the pair's size
   double peer_timeout_seconds = 5.0;
   int loops = 7;             // timed loops per case and method
   double loop_ns = 50000.0;  // target duration of one loop
@@ -100,7 +125,8 @@ struct FamilyRun {
   std::string name;
   std::string parameter;  // the swept quantity's name, or ""
   std::vector<BenchCase> cases;
-  std::size_t dropped = 0;
+  std::size_t dropped = 0;  // no reference
+  std::size_t skipped = 0;  // not asked: not separated beyond the tolerance (distance)
   std::vector<std::string> notes;
   std::vector<std::vector<CaseResult>> results;  // [method][case]
   double reference_seconds = 0.0;
@@ -131,6 +157,7 @@ struct StabilityRow {
 std::vector<StabilityRow> stability(const FamilyRun& family, const std::vector<CaseResult>& results);
 
 struct BenchReport {
+  QueryType query = QueryType::penetration;
   std::vector<Method> methods;
   std::vector<FamilyRun> families;
   bool peers_built = false;
@@ -138,7 +165,15 @@ struct BenchReport {
 };
 
 // One case judged for one method (the failure rules above).
-CaseResult judge_case(const BenchCase& c, const Method& method, MethodAnswer answer, double fail_tolerance);
+CaseResult judge_case(const BenchCase& c, const Method& method, MethodAnswer answer, double fail_tolerance,
+                      QueryType query = QueryType::penetration);
+
+// Whether `query` asks about the case: distance only on pairs separated
+// beyond the tolerance (the reference's error bound + fail_tolerance x size).
+bool asks_about(QueryType query, const BenchCase& c, double fail_tolerance);
+
+// Keeps the cases `options.query` asks about (counted in `skipped`).
+void keep_asked_cases(FamilyRun& family, const BenchOptions& options);
 
 // Runs the families (or the scene's queries, loaded by the caller into
 // `scene_cases`) with `methods`; progress lines on `progress`.

@@ -10,7 +10,9 @@
 // stderr, the markdown report to stdout. Exit 0 when hedra (every tolerance
 // of the sweep) has no failure, 1 when it has some, 2 for bad input.
 // --continuous runs the sweep families of continuous.hpp instead, through
-// the same steps (no plots).
+// the same steps (no plots). --query distance|intersect asks hedra's
+// distance() or intersect() and the peers' same question instead of the
+// signed distance (bench.hpp); intersect makes no plots (no error to draw).
 #include "cli/bench/bench_command.hpp"
 
 #include <spawn.h>
@@ -51,6 +53,7 @@ struct BenchCommandOptions {
   std::vector<std::string> families;
   std::vector<std::string> methods;
   std::string scene;
+  std::string query = "penetration";
   double fail_tolerance = 1e-6;
   double peer_timeout = 20.0;
   int loops = 0;  // 0: 7, or 3 with --quick
@@ -87,6 +90,7 @@ std::string command_text(const BenchCommandOptions& o) {
   std::string line = "hedra bench";
   if (o.quick) line += " --quick";
   if (o.continuous) line += " --continuous";
+  if (o.query != "penetration") line += " --query " + o.query;
   line += " --out " + o.out + " --seed " + std::to_string(o.seed);
   for (const std::string& f : o.families) line += " --family " + f;
   for (const std::string& m : o.methods) line += " --method " + m;
@@ -217,8 +221,21 @@ int run_continuous_command(const BenchCommandOptions& options, std::string& out,
 }
 
 int run_bench_command(const BenchCommandOptions& options, std::string& out, std::ostream& err) {
-  if (options.continuous) return run_continuous_command(options, out, err);
+  const std::optional<QueryType> query = bench::find_bench_query(options.query);
+  if (!query) {
+    err << "hedra bench: --query: unknown query '" << options.query
+        << "' (available: penetration, distance, intersect)\n";
+    return kExitBadInput;
+  }
+  if (options.continuous) {
+    if (*query != QueryType::penetration) {
+      err << "hedra bench: --query " << options.query << " does not apply to --continuous (times of impact)\n";
+      return kExitBadInput;
+    }
+    return run_continuous_command(options, out, err);
+  }
   bench::BenchOptions bo;
+  bo.query = *query;
   bo.workload.seed = options.seed;
   bo.workload.quick = options.quick;
   bo.families = options.families;
@@ -239,7 +256,7 @@ int run_bench_command(const BenchCommandOptions& options, std::string& out, std:
     }
   }
   std::vector<bench::Method> methods;
-  const std::vector<bench::Method> available = bench::all_methods(options.quick);
+  const std::vector<bench::Method> available = bench::all_methods(options.quick, *query);
   for (const bench::Method& m : available) {
     if (options.methods.empty() ||
         std::find(options.methods.begin(), options.methods.end(), m.name) != options.methods.end())
@@ -251,7 +268,8 @@ int run_bench_command(const BenchCommandOptions& options, std::string& out, std:
     if (!known) {
       std::string names;
       for (const bench::Method& m : available) names += (names.empty() ? "" : ", ") + m.name;
-      err << "hedra bench: --method: unknown method '" << name << "' (available in this build: " << names << ")\n";
+      err << "hedra bench: --method: unknown method '" << name << "' (available in this build for --query "
+          << options.query << ": " << names << ")\n";
       return kExitBadInput;
     }
   }
@@ -287,7 +305,10 @@ int run_bench_command(const BenchCommandOptions& options, std::string& out, std:
 
   std::vector<bench::FamilyRun> runs;
   if (scene_run) {
-    err << "bench: " << scene_run->name << ": " << scene_run->cases.size() << " queries with exact references\n";
+    bench::keep_asked_cases(*scene_run, bo);
+    err << "bench: " << scene_run->name << ": " << scene_run->cases.size() << " queries with exact references";
+    if (scene_run->skipped) err << ", " << scene_run->skipped << " not separated beyond the tolerance: not asked";
+    err << "\n";
     runs.push_back(std::move(*scene_run));
   } else {
     runs = bench::generate_families(bo, err);
@@ -301,7 +322,9 @@ int run_bench_command(const BenchCommandOptions& options, std::string& out, std:
                        std::string(bench::plot_script())},
                       err))
     return kExitBadInput;
-  if (!options.no_plots) {
+  if (*query == QueryType::intersect && !options.no_plots) {
+    err << "bench: no plots for --query intersect (verdicts only: no error to draw)\n";
+  } else if (!options.no_plots) {
     const std::string python = options.python.empty() ? default_python() : options.python;
     const std::string problem = run_plots(python, (fs::path(options.out) / "plot_bench.py").string(), options.out);
     if (!problem.empty()) {
@@ -345,10 +368,17 @@ Subcommand add_bench_command(CLI::App& app) {
   command
       ->add_option("--method", options->methods,
                    "Run only this method (repeatable): hedra, hedra@1e-03 .. hedra@1e-12, or a peer's name "
-                   "(ccd_gjk_epa, ccd_mpr, fcl_libccd, fcl_indep, bullet_f32_gjk_epa, ...); hedra always runs")
+                   "(ccd_gjk_epa, ccd_mpr, fcl_libccd, fcl_indep, bullet_f32_gjk_epa, ...; ccd_gjk under --query "
+                   "intersect, which has no hedra@ sweep); hedra always runs")
       ->type_name("NAME");
   command->add_option("--scene", options->scene, "Benchmark this scene's queries instead of the families")
       ->type_name("FILE");
+  command
+      ->add_option("--query", options->query,
+                   "The question asked of hedra and the peers: penetration (signed distance, every pair; the "
+                   "default), distance (distance(), on the separated pairs only) or intersect (intersect(), the "
+                   "verdict, every pair; libccd's ccdGJKIntersect is ccd_gjk)")
+      ->type_name("QUERY");
   command
       ->add_option("--fail-tolerance", options->fail_tolerance,
                    "Distance error, relative to the pair's size, above which an answer is a failure (default 1e-6)")

@@ -3,10 +3,12 @@
 
 #include <sys/utsname.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -44,6 +46,55 @@ std::string count_text(std::size_t n) { return std::to_string(n); }
 
 // Time for a table cell: ns below 10 us, else us or ms.
 std::string time_cell(double ns) { return ns > 0 ? format_time(ns) : "-"; }
+
+// What the run asked, for the report's opening.
+std::string question_text(QueryType query) {
+  switch (query) {
+    case QueryType::distance:
+      return "`distance()` against the peers' distance query, on each family's pairs separated by more than the "
+             "tolerance (the others are not asked; families without such pairs are left out). Errors are against "
+             "the exact distance (the Minkowski-difference hull, qhull): |answer - reference| for polytopes, the "
+             "distance from the answer to the reference's certified bracket for curved pairs; relative = absolute / "
+             "the pair's size. A failure is an overlap verdict on these separated pairs, an error above the "
+             "tolerance (the reference's bound + max(fail tolerance, 2 x requested tolerance) x size), a normal off "
+             "a unique reference normal by more than 1e-3 rad (judged where 2 x requested <= fail tolerance), a NaN, "
+             "a crash or timeout, or a cap.";
+    case QueryType::intersect:
+      return "`intersect()` against the peers' boolean query (libccd's ccdGJKIntersect is `ccd_gjk`) on every "
+             "pair. Only the verdict is judged, against the sign of the exact signed distance sd: a failure is a "
+             "verdict other than sd < 0 where |sd| exceeds the tolerance (the reference's bound + fail tolerance x "
+             "size), a crash or timeout, or a cap (for hedra also a stall: its verdict is defined only when ok). "
+             "Touching pairs, |sd| within the tolerance, accept either verdict. No errors are measured: the error "
+             "columns show `-`.";
+    default:
+      return "Errors are against the exact reference (the Minkowski-difference hull, qhull): |answer - reference| "
+             "for polytopes, the distance from the answer to the reference's certified bracket for curved pairs; "
+             "relative = absolute / the pair's size. Times are per query: the median over timed loops per case, then "
+             "the median (p99) over the family's cases. A failure is a wrong intersecting verdict, an error above the "
+             "tolerance (the reference's bound + max(fail tolerance, 2 x requested tolerance) x size), a normal off a "
+             "unique reference normal by more than 1e-3 rad (judged where 2 x requested <= fail tolerance), a NaN, a "
+             "crash or timeout, or a cap.";
+  }
+}
+
+// The fastest peer accurate on the family: poses every case, at most 10 %
+// failures, and (except under intersect) a distance on every case.
+struct FastestPeer {
+  std::string name;
+  double median_ns = 0.0;
+};
+std::optional<FastestPeer> fastest_accurate_peer(const BenchReport& report, const FamilyRun& family) {
+  std::optional<FastestPeer> best;
+  for (std::size_t m = 0; m < report.methods.size() && m < family.results.size(); ++m) {
+    if (report.methods[m].is_hedra) continue;
+    const Summary s = summarize(family.results[m]);
+    const bool distances = report.query == QueryType::intersect || s.answered == s.cases;
+    if (s.cases == 0 || s.supported < s.cases || !distances || 10 * s.failures > s.cases || !(s.time_median_ns > 0))
+      continue;
+    if (!best || s.time_median_ns < best->median_ns) best = FastestPeer{report.methods[m].name, s.time_median_ns};
+  }
+  return best;
+}
 
 }  // namespace
 
@@ -142,21 +193,19 @@ std::string stability_csv(const BenchReport& report) {
 
 std::string markdown_report(const BenchReport& report, const RunInfo& info) {
   std::ostringstream md;
-  md << "# hedra bench\n\n";
+  md << "# hedra bench"
+     << (report.query == QueryType::penetration ? "" : std::string(" --query ") + to_string(report.query)) << "\n\n";
   md << "- date: " << info.date << "\n- machine: " << info.machine << "\n- command: `" << info.command << "`\n";
   md << "- workload: " << info.source << (info.quick ? " (quick)" : "") << ", seed " << info.seed << "\n";
   md << "- load average before / after: " << info.load_before << " / " << info.load_after << "\n";
   md << "- run time: " << fmt("%.0f", report.elapsed_seconds) << " s (timing and judging; references before)\n";
-  md << "- peers: " << (report.peers_built ? "built" : "not built (HEDRA_WITH_PEERS=OFF): hedra only") << "\n\n";
-
-  md << "Errors are against the exact reference (the Minkowski-difference hull, qhull): |answer - reference| "
-        "for polytopes, the distance from the answer to the reference's certified bracket for curved pairs; "
-        "relative = absolute / the pair's size. Times are per query: the median over timed loops per case, then the "
-        "median (p99) over "
-        "the family's cases. A failure is a wrong intersecting verdict, an error above the tolerance "
-        "(the reference's bound + max(fail tolerance, 2 x requested tolerance) x size), a normal off a unique "
-        "reference normal by more than 1e-3 rad (judged where 2 x requested <= fail tolerance), a NaN, a crash or "
-        "timeout, or a cap.\n\n";
+  md << "- peers: " << (report.peers_built ? "built" : "not built (HEDRA_WITH_PEERS=OFF): hedra only") << "\n";
+  md << "- query: " << to_string(report.query) << "\n\n";
+  md << question_text(report.query) << "\n\n";
+  if (report.query != QueryType::penetration) {
+    md << "Times are per query: the median over timed loops per case, then the median (p99) over the family's "
+          "cases.\n\n";
+  }
 
   // Headline: hedra's default beside every peer, per family.
   std::size_t hedra_index = 0;
@@ -175,8 +224,8 @@ std::string markdown_report(const BenchReport& report, const RunInfo& info) {
   for (const FamilyRun& family : report.families) {
     if (family.results.size() <= hedra_index) continue;
     const Summary h = summarize(family.results[hedra_index]);
-    md << "| " << family.name << " | " << time_cell(h.time_median_ns) << ", " << e3(h.rel_max) << ", " << h.failures
-       << " |";
+    md << "| " << family.name << " | " << time_cell(h.time_median_ns) << ", "
+       << (h.answered ? e3(h.rel_max) : std::string("-")) << ", " << h.failures << " |";
     for (std::size_t m = 0; m < report.methods.size() && m < family.results.size(); ++m) {
       if (report.methods[m].is_hedra) continue;
       const Summary s = summarize(family.results[m]);
@@ -195,12 +244,47 @@ std::string markdown_report(const BenchReport& report, const RunInfo& info) {
   }
   md << "\n";
 
+  md << "## Against the fastest accurate peer\n\n"
+        "Per family: hedra's median time over that of the fastest peer accurate on the family (it poses every "
+        "case, has at most 10 % failures"
+     << (report.query == QueryType::intersect ? "" : " and gives a distance on every case") << ").\n\n";
+  const bool against_ccd_gjk =
+      report.query == QueryType::intersect &&
+      std::any_of(report.methods.begin(), report.methods.end(), [](const Method& m) { return m.name == "ccd_gjk"; });
+  md << "| family | hedra | fastest accurate peer | its time | hedra / peer |"
+     << (against_ccd_gjk ? " hedra / ccd_gjk |" : "") << "\n|---|---|---|---|---|" << (against_ccd_gjk ? "---|" : "")
+     << "\n";
+  for (const FamilyRun& family : report.families) {
+    if (family.results.size() <= hedra_index) continue;
+    const Summary h = summarize(family.results[hedra_index]);
+    const std::optional<FastestPeer> peer = fastest_accurate_peer(report, family);
+    md << "| " << family.name << " | " << time_cell(h.time_median_ns) << " | ";
+    if (peer && h.time_median_ns > 0) {
+      md << peer->name << " | " << time_cell(peer->median_ns) << " | "
+         << fmt("%.2f", h.time_median_ns / peer->median_ns) << " |";
+    } else {
+      md << "none | - | - |";
+    }
+    if (against_ccd_gjk) {
+      std::string cell = "-";
+      for (std::size_t m = 0; m < report.methods.size() && m < family.results.size(); ++m) {
+        if (report.methods[m].name != "ccd_gjk") continue;
+        const Summary s = summarize(family.results[m]);
+        if (s.time_median_ns > 0 && h.time_median_ns > 0) cell = fmt("%.2f", h.time_median_ns / s.time_median_ns);
+      }
+      md << " " << cell << " |";
+    }
+    md << "\n";
+  }
+  md << "\n";
+
   md << "## Families\n\n";
   for (const FamilyRun& family : report.families) {
     const FamilyInfo* fi = find_family(family.name);
     md << "### " << family.name << "\n\n"
        << (fi ? fi->description : "scene queries") << ": " << family.cases.size() << " cases";
     if (family.dropped) md << " (" << family.dropped << " dropped: no reference)";
+    if (family.skipped) md << " (" << family.skipped << " more not separated beyond the tolerance: not asked)";
     md << ", references in " << fmt("%.1f", family.reference_seconds) << " s.\n\n";
     md << "| method | answered / cases | failures | median time | p99 time | median rel error | p99 rel error | max "
           "rel error | max abs error | median normal angle |\n|---|---|---|---|---|---|---|---|---|---|\n";

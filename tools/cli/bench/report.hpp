@@ -9,10 +9,13 @@
 //   cases.csv      one row per case and method: the raw answers and errors
 //   stability.csv  one row per swept family, parameter value and method:
 //                  median and max relative error, failures
-//   report.md      the run (date, machine, command, seed), a headline table
-//                  (hedra beside every peer per family), the per-family
-//                  tables, the stability tables, what each peer could not
-//                  pose, and dropped cases
+//   report.md      the run (date, machine, command, seed, query), a headline
+//                  table (hedra beside every peer per family), hedra's time
+//                  over the fastest accurate peer's per family (one that
+//                  poses every case with at most 10 % failures and, except
+//                  under intersect, a distance on each; under intersect also
+//                  over ccd_gjk's), the per-family tables, the stability
+//                  tables, what each peer could not pose, and dropped cases
 // Numbers in the CSV files are plain decimal or exponent notation; an empty
 // cell means "no value" (no distance answered, no unique normal).
 #pragma once

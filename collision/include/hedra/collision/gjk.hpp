@@ -14,7 +14,8 @@
 // 16 eps of itself, undone unless they lead below the best; every exit
 // keeps finite outputs and a status (ok, stalled, max_iterations,
 // degenerate), never reading a cap as "separated". gjk_intersect stops at
-// the first separating axis (v . w > margin |v|) or once |v| <= margin.
+// the first separating axis (v . w > margin |v|; the start axis is tested
+// too) or once |v| <= margin.
 // Warm start: the caller's initial axis (a GjkCache's last v, or the centre
 // difference). Derivations: docs/design.md, "GJK".
 #pragma once
@@ -387,6 +388,20 @@ GjkResult run(const A& a, const B& b, const Eigen::Vector3d& initial_axis, doubl
 
   GjkSimplex& s = r.simplex;
   if (!start(a, b, initial_axis, r)) return r;
+  if (kBoolean) {
+    // The start axis is a search axis too: w[0] = s(-axis), so axis . w[0]
+    // > margin |axis| separates as the loop's own test does on v (an axis
+    // that is zero, not finite or whose square is not is left to the loop;
+    // start searched +x for the first two). Witnesses and distance are then
+    // w[0]'s, v the separating axis (the cache's warm start).
+    const double aa = dot3(initial_axis, initial_axis);
+    if (aa > 0.0 && aa < std::numeric_limits<double>::infinity() &&
+        dot3(initial_axis, s.w[0]) > margin * length_of(initial_axis, aa)) {
+      finish(s.w[0], dot3(s.w[0], s.w[0]), 0.0, -std::numeric_limits<double>::infinity(), r);
+      r.v = initial_axis;
+      return r;
+    }
+  }
   Eigen::Vector3d v = s.w[0];
   double vv = dot3(v, v);
   double lower = 0.0;
