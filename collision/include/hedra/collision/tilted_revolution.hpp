@@ -224,7 +224,7 @@ inline Candidate piece_bound(const Problem& pr, const Polygon& poly, const Branc
   };
   const double gn = G.norm();
   if (pr.tau > 0.0) {
-    const Eigen::Vector2d P = -G / std::hypot(gn, pr.tau);
+    const Eigen::Vector2d P = -G / accurate_hypot(gn, pr.tau);
     if (inside(P)) consider(P);
   }
   if (gn > 0.0) {  // the lowest point of the arc
@@ -253,7 +253,7 @@ inline Candidate piece_bound(const Problem& pr, const Polygon& poly, const Branc
     consider(F0 + hi * d);
     if (pr.tau > 0.0) {
       const double k = G.dot(d);
-      const double star = std::clamp(-k * rho / std::hypot(k, pr.tau), lo, hi);
+      const double star = std::clamp(-k * rho / accurate_hypot(k, pr.tau), lo, hi);
       consider(F0 + star * d);
     }
   }
@@ -337,7 +337,7 @@ inline Feature feature_of(const Profile& p, const Eigen::Vector3d& d, double sla
                           const Eigen::Vector3d& t) {
   Feature f;
   const double c = std::clamp(d.z(), -1.0, 1.0);
-  const double rd = std::hypot(d.x(), d.y());
+  const double rd = accurate_hypot(d.x(), d.y());
   const Eigen::Vector3d k = Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d rim =
       rd > 0.0 ? Eigen::Vector3d(p.radius * d.x() / rd, p.radius * d.y() / rd, 0.0) : Eigen::Vector3d::Zero();
