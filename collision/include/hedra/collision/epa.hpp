@@ -675,7 +675,13 @@ int expand_polytope(const A& a, const B& b, const EpaSettings& settings, const T
     }
     if (h - f.d <= std::max(settings.relative_tolerance * std::max(f.d, 0.0), tol.absolute)) return best;
     bool duplicate = false;
-    for (int i = 0; i < poly.vertex_count && !duplicate; ++i) duplicate = poly.vertex[i].w == s.w;
+    for (int i = 0; i < poly.vertex_count; ++i) {
+      const Eigen::Vector3d& v = poly.vertex[i].w;
+      if (v.x() == s.w.x() && v.y() == s.w.y() && v.z() == s.w.z()) {
+        duplicate = true;
+        break;
+      }
+    }
     if (duplicate) {
       // Why: a vertex of P beyond one of P's supporting planes by more than
       // the tolerance means rounding made P non-convex; adding it again
