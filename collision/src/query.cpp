@@ -3,6 +3,7 @@
 // Polyhedron support hints travel through the caller's GjkCache.
 #include <algorithm>
 #include <cmath>
+#include "closed_form.hpp"
 #include <hedra/collision/epa.hpp>
 #include <hedra/collision/gjk.hpp>
 #include <hedra/collision/minkowski.hpp>
@@ -13,6 +14,7 @@
 #include <hedra/hull/assert.hpp>
 #include <limits>
 #include <optional>
+#include <type_traits>
 #include <utility>
 
 namespace hedra::collision {
@@ -398,6 +400,16 @@ class PenetrationSteps {
 template <class SA, class SB>
 PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, GjkCache* cache,
                                     const PenetrationSettings& settings) {
+  // A sphere whose centre is inside a box's core: the closed form
+  // (closed_form.hpp), without GJK and EPA.
+  if constexpr (std::is_same_v<SA, Sphere> && std::is_same_v<SB, Box>) {
+    PenetrationResult out;
+    if (closed_form::sphere_box(a, pose_a, b, pose_b, true, out)) return out;
+  }
+  if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Sphere>) {
+    PenetrationResult out;
+    if (closed_form::sphere_box(b, pose_b, a, pose_a, false, out)) return out;
+  }
   PairSetup<SA, SB> p(a, pose_a, b, pose_b, cache);
   const Transformed<decltype(p.core_b)> placed_b{p.core_b, p.relative.rotation, p.relative.translation};
   const GjkResult g = gjk_distance(p.core_a, placed_b, p.initial_axis, p.scale, settings.gjk);

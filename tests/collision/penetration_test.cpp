@@ -25,6 +25,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <hedra/collision/query.hpp>
+#include <limits>
 #include <new>
 #include <qhull_reference.hpp>
 #include <random>
@@ -197,6 +198,42 @@ TEST(Penetration, SphereCentreInsideBox) {
     }
   }
   EXPECT_GT(checked, 1500);
+}
+
+// A sphere whose centre is inside a box's core has a closed form (the
+// nearest face): both orders give the same distance and opposite normals,
+// within the answer's own error bound of the nearest face's depth; a centre
+// just outside the core keeps GJK's answer, equal to distance() bit for bit.
+TEST(Penetration, SphereBoxClosedFormInsideAndGjkOutside) {
+  std::mt19937_64 rng(211);
+  std::uniform_real_distribution<double> ext(0.05, 1.5), unit(-1.0, 1.0), out(1.01, 1.2);
+  for (int i = 0; i < 2000; ++i) {
+    const Box box{{ext(rng), ext(rng), ext(rng)}, i % 3 == 0 ? 0.04 : 0.0};
+    const Sphere ball{0.5 * ext(rng), i % 4 == 0 ? 0.02 : 0.0};
+    const Pose pb = random_pose(rng, 3.0);
+    Vec c = box.half_extents.cwiseProduct(Vec(unit(rng), unit(rng), unit(rng)));
+    const bool outside = i % 2 == 1;  // then beyond one face, by less than the radii
+    if (outside) c[i % 3] = (c[i % 3] < 0 ? -1.0 : 1.0) * out(rng) * box.half_extents[i % 3];
+    const Pose ps{random_rotation(rng), pb.apply(c)};
+    const double size = std::max(bounding_radius(box), ball.radius + ball.margin);
+    const PenetrationResult ab = penetration(ball, ps, box, pb);
+    const PenetrationResult ba = penetration(box, pb, ball, ps);
+    expect_consistent(ball, ps, box, pb, ab, 1e-9 * size);
+    expect_consistent(box, pb, ball, ps, ba, 1e-9 * size);
+    if (outside) {
+      EXPECT_GT(ab.gjk_iterations, 0) << i;
+      continue;
+    }
+    EXPECT_EQ(ab.gjk_iterations, 0) << i;  // the closed form
+    EXPECT_EQ(ab.distance, ba.distance) << i;
+    EXPECT_LT(angle(ab.normal, -ba.normal), 1e-15) << i;
+    EXPECT_GT(ab.error_bound, 0.0);
+    EXPECT_LT(ab.error_bound, 1e-13 * size);
+    const double expected = -(box.half_extents - c.cwiseAbs()).minCoeff() - ball.radius - ball.margin - box.margin;
+    // c itself went through pb.apply and back: its rounding on top.
+    const double slack = ab.error_bound + 16.0 * std::numeric_limits<double>::epsilon() * (c.norm() + size);
+    EXPECT_NEAR(ab.distance, expected, slack) << i;
+  }
 }
 
 TEST(Penetration, CapsuleCapsuleClosedForm) {

@@ -29,6 +29,10 @@
 #include <hedra/hull/assert.hpp>
 #include <limits>
 
+#if defined(__SSE2__)
+#  include <emmintrin.h>
+#endif
+
 namespace hedra::collision {
 
 enum class EpaStatus {
@@ -250,15 +254,50 @@ struct Polytope {
     return true;
   }
 
+  static constexpr int kShortScan = 16;
+  // The first slot holding the smallest live_d (-1 when none is finite):
+  // the minimum first, then the first slot equal to it. live_d holds no
+  // NaN (face planes are finite), so the minimum is order-free and equality
+  // with it (+0 == -0 included) marks exactly the slots a strict-less scan
+  // could stop at; the first of them is the one it keeps.
   int closest_face() const {
-    int best = -1;
-    double best_d = std::numeric_limits<double>::infinity();
-    for (int f = 0; f < face_end; ++f)
-      if (live_d[f] < best_d) {
-        best_d = live_d[f];
-        best = f;
-      }
-    return best;
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const double* d = live_d.data();
+    int f = 0;
+    double best_d = kInf;
+    if (face_end < kShortScan) {  // one pass: fewer instructions on a few faces
+      int best = -1;
+      for (; f < face_end; ++f)
+        if (d[f] < best_d) {
+          best_d = d[f];
+          best = f;
+        }
+      return best;
+    }
+#if defined(__SSE2__)
+    __m128d m0 = _mm_set1_pd(kInf), m1 = m0;
+    for (; f + 4 <= face_end; f += 4) {
+      m0 = _mm_min_pd(m0, _mm_loadu_pd(d + f));
+      m1 = _mm_min_pd(m1, _mm_loadu_pd(d + f + 2));
+    }
+    m0 = _mm_min_pd(m0, m1);
+    best_d = std::min(_mm_cvtsd_f64(m0), _mm_cvtsd_f64(_mm_unpackhi_pd(m0, m0)));
+#endif
+    for (; f < face_end; ++f) best_d = std::min(best_d, d[f]);
+    if (!(best_d < kInf)) return -1;
+    f = 0;
+#if defined(__SSE2__)
+    const __m128d target = _mm_set1_pd(best_d);
+    for (; f + 4 <= face_end; f += 4) {
+      const __m128d lo = _mm_cmpeq_pd(_mm_loadu_pd(d + f), target);
+      const __m128d hi = _mm_cmpeq_pd(_mm_loadu_pd(d + f + 2), target);
+      if (_mm_movemask_pd(_mm_or_pd(lo, hi)) != 0) break;
+    }
+#endif
+    for (; f < face_end; ++f)
+      if (d[f] == best_d) return f;
+    HEDRA_ASSERT(false);
+    return -1;
   }
 
   enum class Expansion { done, full, invalid };
@@ -636,7 +675,13 @@ int expand_polytope(const A& a, const B& b, const EpaSettings& settings, const T
     }
     if (h - f.d <= std::max(settings.relative_tolerance * std::max(f.d, 0.0), tol.absolute)) return best;
     bool duplicate = false;
-    for (int i = 0; i < poly.vertex_count && !duplicate; ++i) duplicate = poly.vertex[i].w == s.w;
+    for (int i = 0; i < poly.vertex_count; ++i) {
+      const Eigen::Vector3d& v = poly.vertex[i].w;
+      if (v.x() == s.w.x() && v.y() == s.w.y() && v.z() == s.w.z()) {
+        duplicate = true;
+        break;
+      }
+    }
     if (duplicate) {
       // Why: a vertex of P beyond one of P's supporting planes by more than
       // the tolerance means rounding made P non-convex; adding it again

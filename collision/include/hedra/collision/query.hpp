@@ -29,8 +29,9 @@
 // EPA on the cores from GJK's final simplex (overlapping cores of
 // revolution: the exact meridian-section answer of revolution.hpp for
 // parallel axes, the certified branch and bound of tilted_revolution.hpp
-// for nearly coaxial ones; docs/design.md, "Why penetration() tries what it
-// tries"), and
+// for nearly coaxial ones; a sphere whose centre is inside a box's core:
+// the nearest face in closed form, without GJK; docs/design.md, "Why
+// penetration() tries what it tries"), and
 //   distance = -(core depth + r_a + r_b),
 //   point_a  = core point_a + r_a n,   point_b = core point_b - r_b n.
 // Either way point_b - point_a = distance * normal.

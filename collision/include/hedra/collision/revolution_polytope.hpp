@@ -203,7 +203,7 @@ bool make_problem(const Revolution& revolution, const Polytope& polytope, const 
     pr.q[j] = revolution_is_a ? Eigen::Vector3d(-(R * v.p[j] + pr.t)) : Eigen::Vector3d(v.p[j] - pr.t);
     pr.qx[j] = pr.q[j].dot(pr.e1);
     pr.qy[j] = pr.q[j].dot(pr.e2);
-    pr.qr[j] = std::hypot(pr.qx[j], pr.qy[j]);
+    pr.qr[j] = accurate_hypot(pr.qx[j], pr.qy[j]);
     pr.psi[j] = std::atan2(-pr.qy[j], -pr.qx[j]);  // where qx cos(phi) + qy sin(phi) is least
     if (!std::isfinite(pr.qr[j])) return false;
   }

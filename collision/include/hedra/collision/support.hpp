@@ -191,11 +191,38 @@ inline hull::Index polyhedron_support(const ConvexPolyhedron& poly, const Eigen:
 // sign with sign(0) = +1: ties go to the + side.
 inline double support_sign(double x) { return x >= 0.0 ? 1.0 : -1.0; }
 
+// hypot(x, y) without the library call where the arguments are in the
+// normal range: sqrt(a^2 + b^2) (a >= b) with Borges' one-step correction of
+// the squares' rounding ("An Improved Algorithm for hypot(a, b)", 2019,
+// the variant without fused multiply-add), which is what glibc 2.35 and
+// later compute there, so the same bits as std::hypot on those systems and
+// within one ulp of the exact value anywhere. Outside that range (b below
+// a * 2^-54, squares that could overflow or underflow, inf, NaN) it is
+// std::hypot. Needs -ffp-contract=off (set for the project): a contracted
+// product would be a different rounding.
+inline double accurate_hypot(double x, double y) {
+  const double ax = std::abs(x), ay = std::abs(y);
+  const double a = ax < ay ? ay : ax, b = ax < ay ? ax : ay;
+  if (!(a <= 0x1p+511 && b >= 0x1p-459 && b > a * 0x1p-54)) return std::hypot(x, y);
+  const double h = std::sqrt(a * a + b * b);
+  double t1, t2;  // the squares' rounding error, split so each part is exact enough
+  if (h <= 2.0 * b) {
+    const double delta = h - b;
+    t1 = a * (2.0 * delta - a);
+    t2 = (delta - 2.0 * (a - b)) * delta;
+  } else {
+    const double delta = h - a;
+    t1 = 2.0 * delta * (a - 2.0 * b);
+    t2 = (4.0 * delta - b) * b + delta * delta;
+  }
+  return h - (t1 + t2) / (2.0 * h);
+}
+
 // Unit vector of (d.x, d.y, 0) scaled by r, or (r, 0, 0) when d is (nearly)
 // parallel to z; the threshold is relative to |d|, so the support value is
 // off by at most r * eps * |d|.
 inline Eigen::Vector3d support_disc(const Eigen::Vector3d& d, double r) {
-  const double dxy = std::hypot(d.x(), d.y());
+  const double dxy = accurate_hypot(d.x(), d.y());
   if (!(dxy > std::numeric_limits<double>::epsilon() * d.norm())) return {r, 0.0, 0.0};
   return {r * d.x() / dxy, r * d.y() / dxy, 0.0};
 }

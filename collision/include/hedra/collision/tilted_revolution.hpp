@@ -211,20 +211,27 @@ inline Candidate piece_bound(const Problem& pr, const Polygon& poly, const Branc
     if (v < best.value) best = {v, P};
   };
   const Eigen::Vector2d G = Eigen::Vector2d(ba, 0.0) + bb * wb - Eigen::Vector2d(pr.t1, pr.t2);
+  // The piece's edges p_i p_{i+1} and their lengths, once for the inside
+  // test and the edge minimisers below.
+  std::array<Eigen::Vector2d, 8> edge;
+  std::array<double, 8> edge_length;
+  for (int i = 0; i < poly.n; ++i) {
+    edge[i] = poly.p[(i + 1) % poly.n] - poly.p[i];
+    edge_length[i] = edge[i].norm();
+  }
   // Inside the piece, up to a rounding slack (a point a hair outside only
   // lowers the bound: still certified).
   const auto inside = [&](const Eigen::Vector2d& P) {
     for (int i = 0; i < poly.n; ++i) {
       const Eigen::Vector2d& p = poly.p[i];
-      const Eigen::Vector2d& q = poly.p[(i + 1) % poly.n];
-      const Eigen::Vector2d d = q - p;
-      if (d.x() * (P.y() - p.y()) - d.y() * (P.x() - p.x()) < -1e-15 * (d.norm() + 1.0)) return false;
+      const Eigen::Vector2d& d = edge[i];
+      if (d.x() * (P.y() - p.y()) - d.y() * (P.x() - p.x()) < -1e-15 * (edge_length[i] + 1.0)) return false;
     }
     return true;
   };
   const double gn = G.norm();
   if (pr.tau > 0.0) {
-    const Eigen::Vector2d P = -G / std::hypot(gn, pr.tau);
+    const Eigen::Vector2d P = -G / accurate_hypot(gn, pr.tau);
     if (inside(P)) consider(P);
   }
   if (gn > 0.0) {  // the lowest point of the arc
@@ -233,9 +240,8 @@ inline Candidate piece_bound(const Problem& pr, const Polygon& poly, const Branc
   }
   for (int i = 0; i < poly.n; ++i) {
     const Eigen::Vector2d& p = poly.p[i];
-    const Eigen::Vector2d& q = poly.p[(i + 1) % poly.n];
-    const Eigen::Vector2d d0 = q - p;
-    const double len = d0.norm();
+    const Eigen::Vector2d& d0 = edge[i];
+    const double len = edge_length[i];
     if (!(len > 0.0)) {
       if (p.squaredNorm() <= 1.0) consider(p);
       continue;
@@ -253,7 +259,7 @@ inline Candidate piece_bound(const Problem& pr, const Polygon& poly, const Branc
     consider(F0 + hi * d);
     if (pr.tau > 0.0) {
       const double k = G.dot(d);
-      const double star = std::clamp(-k * rho / std::hypot(k, pr.tau), lo, hi);
+      const double star = std::clamp(-k * rho / accurate_hypot(k, pr.tau), lo, hi);
       consider(F0 + star * d);
     }
   }
@@ -337,7 +343,7 @@ inline Feature feature_of(const Profile& p, const Eigen::Vector3d& d, double sla
                           const Eigen::Vector3d& t) {
   Feature f;
   const double c = std::clamp(d.z(), -1.0, 1.0);
-  const double rd = std::hypot(d.x(), d.y());
+  const double rd = accurate_hypot(d.x(), d.y());
   const Eigen::Vector3d k = Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d rim =
       rd > 0.0 ? Eigen::Vector3d(p.radius * d.x() / rd, p.radius * d.y() / rd, 0.0) : Eigen::Vector3d::Zero();
