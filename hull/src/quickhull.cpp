@@ -126,9 +126,13 @@ struct QuickhullBuilder::Impl {
   std::vector<Index> vertex_of;      // per point: its output vertex (set by survey)
   std::vector<Conflict, UninitAllocator<Conflict>> pool;  // the faces' conflict ranges, and abandoned ones
   std::size_t pool_live = 0;         // entries of the pool in live ranges
-  std::vector<Index> assign_face;    // place_bulk's face per item
-  std::vector<Index> pending;        // per face: points about to join (place_bulk), else 0
-  std::vector<std::pair<Index, Index>> by_begin;  // compact_pool's (range start, face), sorted
+  std::vector<Index> assign_face;    // note()d face per item
+  std::vector<Index> pending;        // per face: points about to join (place_noted), else 0
+  std::size_t bulk_need = 0;         // pool entries the noted points need, their faces' included
+  // (start, face) of every range placed since the last compact_pool, in
+  // pool order (ranges are only ever placed at the pool's end); stale when
+  // the face has moved on. compact_pool walks it instead of sorting.
+  std::vector<std::pair<Index, Index>> ranges;
   std::vector<WorkEdge> edges;
   std::vector<WorkFace> faces;
   std::vector<Index> horizon;
@@ -137,6 +141,7 @@ struct QuickhullBuilder::Impl {
   std::vector<Conflict> orphans;
   std::vector<Index> discarded;
   std::vector<Index> ring;  // a face's vertices, for plane fitting
+  std::vector<std::uint8_t> flagged;  // merge_new_faces: per new face, concave seen from the smaller side
   bool collapsed = false;   // a merge found the solid flattened (see absorb)
   struct ConePlane {
     Vec3 normal;
@@ -224,13 +229,14 @@ struct QuickhullBuilder::Impl {
   void make_room(Index f, std::size_t extra) {
     WorkFace& face = faces[f];
     const std::size_t end = pool.size();
-    if (face.begin + face.count == end) {
+    if (face.count > 0 && face.begin + face.count == end) {  // listed in `ranges` already
       pool.resize(end + extra);
       return;
     }
     pool.resize(end + face.count + extra);
     std::copy(pool.begin() + face.begin, pool.begin() + face.begin + face.count, pool.begin() + end);
     face.begin = static_cast<Index>(end);
+    ranges.emplace_back(face.begin, f);
   }
   // Every caller has checked that c lies more than eps in front of f (the
   // plane may tilt later, when f merges: the eye is rechecked then).
@@ -240,24 +246,29 @@ struct QuickhullBuilder::Impl {
     pool[faces[f].begin + faces[f].count++] = c;
     ++pool_live;
   }
-  // Appends item(i), i < m, to the conflict list of face assign_face[i]
-  // (none when kInvalidIndex), in the order of i: what pushing them one by
-  // one would give, with each face's range moved at most once.
-  template <class Item>
-  void place_bulk(std::size_t m, Item&& item) {
-    std::size_t need = 0;
+  // Bulk placement, in two steps: note(i, f) for every item i < m in order
+  // (f = kInvalidIndex: none), then place_noted(m, item) appends item(i) to
+  // the conflict list of its face, in the order of i: what pushing them one
+  // by one would give, with each face's range moved at most once.
+  void begin_notes(std::size_t m) {
+    assign_face.resize(m);
     if (pending.size() < faces.size()) pending.resize(faces.size(), 0);
-    for (std::size_t i = 0; i < m; ++i) {
-      const Index f = assign_face[i];
-      if (f == kInvalidIndex) continue;
-      if (pending[f]++ == 0) need += faces[f].count;
-      ++need;
-    }
+    bulk_need = 0;
+  }
+  void note(std::size_t i, Index f) {
+    assign_face[i] = f;
+    if (f == kInvalidIndex) return;
+    if (pending[f]++ == 0) bulk_need += faces[f].count;
+    ++bulk_need;
+  }
+  template <class Item>
+  void place_noted(std::size_t m, Item&& item) {
+    const std::size_t need = bulk_need;
     if (pool.size() + need > pool.capacity()) {
-      // Compacting walks every face: worth it when it frees a quarter of the
-      // pool and at least as many entries as there are faces.
-      const std::size_t abandoned = pool.size() - pool_live;
-      if (4 * abandoned >= pool.size() && abandoned >= faces.size()) compact_pool();
+      // Compacting costs the live entries and the ranges placed since the
+      // last time (fewer than the entries placed): worth it when it frees a
+      // quarter of the pool.
+      if (4 * (pool.size() - pool_live) >= pool.size()) compact_pool();
       if (pool.size() + need > pool.capacity()) pool.reserve(std::max(pool.size() + need, pool.capacity() / 2 * 3));
     }
     for (std::size_t i = 0; i < m; ++i) {
@@ -276,18 +287,19 @@ struct QuickhullBuilder::Impl {
   // range keeps its order), dropping the abandoned ones. Only between
   // passes: no caller holds a range being read.
   void compact_pool() {
-    by_begin.clear();
-    for (Index f = 0; f < faces.size(); ++f)
-      if (faces[f].mark == Mark::alive && faces[f].count > 0) by_begin.emplace_back(faces[f].begin, f);
-    std::sort(by_begin.begin(), by_begin.end());
     Index at = 0;
-    for (const auto& [begin, f] : by_begin) {
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+      const auto [begin, f] = ranges[i];
       WorkFace& face = faces[f];
-      std::copy(pool.begin() + face.begin, pool.begin() + face.begin + face.count, pool.begin() + at);  // at <= begin
+      if (face.mark != Mark::alive || face.count == 0 || face.begin != begin) continue;  // stale
+      std::copy(pool.begin() + begin, pool.begin() + begin + face.count, pool.begin() + at);  // at <= begin
       face.begin = at;
+      ranges[kept++] = {at, f};
       at += face.count;
     }
     HEDRA_ASSERT(at == pool_live);
+    ranges.resize(kept);
     pool.resize(at);
   }
   // Moves the conflict points of face `from` to face `to` when they are in
@@ -477,7 +489,7 @@ struct QuickhullBuilder::Impl {
   void merge_new_faces() {
     const std::size_t cap = faces.size() + 1;
     std::vector<Index>& nf = new_faces;
-    std::vector<std::uint8_t> flagged(nf.size(), 0);  // small: one byte per new face
+    flagged.assign(nf.size(), 0);
     for (std::size_t i = 0; i < nf.size() && !collapsed; ++i) {
       if (faces[nf[i]].mark != Mark::alive) continue;
       bool nonconvex = false;
@@ -587,19 +599,28 @@ struct QuickhullBuilder::Impl {
   // faces beyond the horizon and to each other around the eye.
   void build_cone(Index eye) {
     new_faces.clear();
-    Index first_side = kInvalidIndex, prev_side = kInvalidIndex;
-    for (Index h : horizon) {
-      const Index a = edges[h].origin, b = edges[edges[h].twin].origin;
-      const Index f = add_triangle(a, b, eye);
-      const Index e0 = faces[f].edge, e1 = edges[e0].next, e2 = edges[e1].next;
-      link_twins(e0, edges[h].twin);
-      if (prev_side != kInvalidIndex) link_twins(prev_side, e2);
-      if (first_side == kInvalidIndex) first_side = e2;
-      prev_side = e1;
+    // Triangle i is face f0 + i with edges e0 + 3i (a->b), + 1 (b->eye),
+    // + 2 (eye->a); its side edges meet those of triangles i + 1 and i - 1
+    // around the horizon. The arrays grow once for the whole cone.
+    const Index m = static_cast<Index>(horizon.size());
+    const Index f0 = static_cast<Index>(faces.size()), e0 = static_cast<Index>(edges.size());
+    faces.resize(f0 + m);
+    edges.resize(e0 + 3 * m);
+    for (Index i = 0; i < m; ++i) {
+      const Index h = horizon[i], f = f0 + i, base = e0 + 3 * i;
+      const Index outer = edges[h].twin;
+      const Index before = e0 + 3 * ((i + m - 1) % m), after = e0 + 3 * ((i + 1) % m);
+      edges[base] = WorkEdge{edges[h].origin, outer, base + 1, base + 2, f};
+      edges[base + 1] = WorkEdge{edges[outer].origin, after + 2, base + 2, base, f};
+      edges[base + 2] = WorkEdge{eye, before + 1, base, base + 1, f};
+      edges[outer].twin = base;
+      WorkFace& face = faces[f];
+      face.edge = base;
+      face.begin = face.count = 0;
+      face.mark = Mark::alive;
       update_face(f);
       new_faces.push_back(f);
     }
-    link_twins(prev_side, first_side);
 #if HEDRA_ASSERTS_ENABLED
     // The horizon is one closed loop, so each side edge meets its twin
     // running the other way: the cone's links agree around the eye.
@@ -621,7 +642,7 @@ struct QuickhullBuilder::Impl {
     cone.clear();
     for (Index f : new_faces)
       if (faces[f].mark == Mark::alive) cone.push_back({faces[f].normal, faces[f].offset, f});
-    assign_face.resize(orphans.size());
+    begin_notes(orphans.size());
     for (std::size_t i = 0; i < orphans.size(); ++i) {
       const Vec3& q = orphans[i].p;
       Index best = kInvalidIndex;
@@ -634,9 +655,9 @@ struct QuickhullBuilder::Impl {
           if (d > 1000 * eps) break;
         }
       }
-      assign_face[i] = best;
+      note(i, best);
     }
-    place_bulk(orphans.size(), [&](std::size_t i) -> const Conflict& { return orphans[i]; });
+    place_noted(orphans.size(), [&](std::size_t i) -> const Conflict& { return orphans[i]; });
   }
 
   // ---- degenerate hulls ---------------------------------------------------
@@ -847,7 +868,8 @@ struct QuickhullBuilder::Impl {
     c /= count;
     std::size_t reinserted = 0;
     bool prepared = false;  // on the first point that is not a vertex (a sphere's are all vertices)
-    assign_face.assign(n, kInvalidIndex);
+    begin_notes(n);
+    std::fill(assign_face.begin(), assign_face.end(), kInvalidIndex);
     for (Index i = 0; i < n; ++i) {
       if (point_stamp[i] == stamp) continue;  // a vertex
       if (!prepared &&
@@ -860,10 +882,10 @@ struct QuickhullBuilder::Impl {
       // front of a face through that vertex (itself within 4 eps of the
       // plane). 6 eps stays inside mesh.tolerance() = 8 eps + rounding.
       if (face == kInvalidIndex || d <= 6 * eps) continue;
-      assign_face[i] = face;
+      note(i, face);
       ++reinserted;
     }
-    if (reinserted > 0) place_bulk(n, [&](std::size_t i) { return Conflict{pts[i], static_cast<Index>(i)}; });
+    if (reinserted > 0) place_noted(n, [&](std::size_t i) { return Conflict{pts[i], static_cast<Index>(i)}; });
     return reinserted;
   }
 
@@ -941,6 +963,7 @@ struct QuickhullBuilder::Impl {
     vertex_of.resize(n);
     pool.clear();
     pool_live = 0;
+    ranges.clear();
     point_stamp.assign(n, 0);
     stamp = 0;
     if (s.normal.dot(pts[s.i3] - pts[s.i0]) > 0) std::swap(s.i1, s.i2);  // base must face away from i3
@@ -967,18 +990,21 @@ struct QuickhullBuilder::Impl {
   // Step 4 for the simplex: each point goes to the face it is farthest in
   // front of, if any.
   void assign_initial_conflicts(const Simplex& s, std::size_t n) {
-    assign_face.assign(n, kInvalidIndex);
+    begin_notes(n);
     for (Index i = 0; i < n; ++i) {
-      if (i == s.i0 || i == s.i1 || i == s.i2 || i == s.i3) continue;
+      if (i == s.i0 || i == s.i1 || i == s.i2 || i == s.i3) {
+        note(i, kInvalidIndex);
+        continue;
+      }
       Index best_face = kInvalidIndex;
       double best_distance = eps;
       for (Index f = 0; f < 4; ++f) {
         const double d = faces[f].distance(pts[i]);
         if (d > best_distance) best_distance = d, best_face = f;
       }
-      assign_face[i] = best_face;
+      note(i, best_face);
     }
-    place_bulk(n, [&](std::size_t i) { return Conflict{pts[i], static_cast<Index>(i)}; });
+    place_noted(n, [&](std::size_t i) { return Conflict{pts[i], static_cast<Index>(i)}; });
   }
 
   // ---- main loop ----------------------------------------------------------
@@ -1050,10 +1076,11 @@ struct QuickhullBuilder::Impl {
         e = edges[e].next;
       } while (e != faces[f].edge && ++guard <= edges.size());
     }
-    for (Index e = 0; e < edges.size(); ++e)
-      if (edge_renumber[e] != kInvalidIndex) edge_renumber[e] = ne++;
+    // Numbering and the check that live edges link only to live elements,
+    // in one pass (the check reads liveness, which numbering keeps).
     for (Index e = 0; e < edges.size(); ++e) {
       if (edge_renumber[e] == kInvalidIndex) continue;
+      edge_renumber[e] = ne++;
       const WorkEdge& w = edges[e];
       if (edge_renumber[w.twin] == kInvalidIndex || edge_renumber[w.next] == kInvalidIndex ||
           edge_renumber[w.prev] == kInvalidIndex || face_renumber[w.face] == kInvalidIndex)
@@ -1073,6 +1100,11 @@ struct QuickhullBuilder::Impl {
       face.edge = edge_renumber[face.edge];
       faces[face_renumber[f]] = face;
     }
+    // The pool's range list follows the faces (a removed face's ranges are stale).
+    std::size_t kept = 0;
+    for (const auto& [begin, f] : ranges)
+      if (face_renumber[f] != kInvalidIndex) ranges[kept++] = {begin, face_renumber[f]};
+    ranges.resize(kept);
     const Index moved = face_renumber[cursor];
     faces.resize(nf);
     edges.resize(ne);
