@@ -92,9 +92,10 @@ struct Conflict {
   Index point;
 };
 
-// An allocator whose resize leaves new elements default-initialised (for
-// Conflict: uninitialised, since every slot is written before it is read)
-// instead of zeroing them.
+// An allocator whose resize leaves new elements default-initialised
+// (uninitialised for these plain structs) instead of zeroing them: for the
+// pool, the faces and the edges, whose new slots are all written before
+// they are read (make_room's callers, build_cone).
 template <class T>
 struct UninitAllocator : std::allocator<T> {
   template <class U>
@@ -133,8 +134,8 @@ struct QuickhullBuilder::Impl {
   // pool order (ranges are only ever placed at the pool's end); stale when
   // the face has moved on. compact_pool walks it instead of sorting.
   std::vector<std::pair<Index, Index>> ranges;
-  std::vector<WorkEdge> edges;
-  std::vector<WorkFace> faces;
+  std::vector<WorkEdge, UninitAllocator<WorkEdge>> edges;
+  std::vector<WorkFace, UninitAllocator<WorkFace>> faces;
   std::vector<Index> horizon;
   std::vector<Index> visible;
   std::vector<Index> new_faces;
@@ -266,9 +267,10 @@ struct QuickhullBuilder::Impl {
     const std::size_t need = bulk_need;
     if (pool.size() + need > pool.capacity()) {
       // Compacting costs the live entries and the ranges placed since the
-      // last time (fewer than the entries placed): worth it when it frees a
-      // quarter of the pool.
-      if (4 * (pool.size() - pool_live) >= pool.size()) compact_pool();
+      // last time (fewer than the entries placed): done when it frees an
+      // eighth of the pool, rather than growing it (a reallocation holds the
+      // old and the new pool at once).
+      if (8 * (pool.size() - pool_live) >= pool.size()) compact_pool();
       if (pool.size() + need > pool.capacity()) pool.reserve(std::max(pool.size() + need, pool.capacity() / 2 * 3));
     }
     for (std::size_t i = 0; i < m; ++i) {
@@ -604,6 +606,10 @@ struct QuickhullBuilder::Impl {
     // around the horizon. The arrays grow once for the whole cone.
     const Index m = static_cast<Index>(horizon.size());
     const Index f0 = static_cast<Index>(faces.size()), e0 = static_cast<Index>(edges.size());
+    // Capacity doubles, as one push at a time would give (resize alone would
+    // size it after the current length, up to twice the memory).
+    if (f0 + m > faces.capacity()) faces.reserve(std::max<std::size_t>(2 * faces.capacity(), f0 + m));
+    if (e0 + 3 * m > edges.capacity()) edges.reserve(std::max<std::size_t>(2 * edges.capacity(), e0 + 3 * m));
     faces.resize(f0 + m);
     edges.resize(e0 + 3 * m);
     for (Index i = 0; i < m; ++i) {
