@@ -10,7 +10,7 @@
 //     order instead of chasing per-point links. A face's range moves to the
 //     pool's end when it grows; the abandoned ranges are reclaimed by
 //     moving the live ones down (compact_pool) when the pool would
-//     otherwise have to grow with a quarter of it abandoned;
+//     otherwise have to grow with an eighth of it abandoned;
 //   * removed faces are marked deleted and stay in place; when the face
 //     array has doubled, the live faces and edges move down in order
 //     (compact_working), and the end compacts the rest in the same walk
