@@ -3,8 +3,14 @@
 // the working structure:
 //   * half-edges store their origin as an index into the (recentred) input
 //     points, so output vertices are input points by construction;
-//   * faces carry a plane, centroid and area (Newell's method) and an
-//     intrusive singly-linked conflict list (conflict_next_ per point);
+//   * faces carry a plane, centroid and area (Newell's method) and a
+//     conflict list: a contiguous range of a shared pool holding each
+//     point's coordinates with its index, in the order the points joined
+//     (the newest last), so the passes over a face's points read memory in
+//     order instead of chasing per-point links. A face's range moves to the
+//     pool's end when it grows; the abandoned ranges are reclaimed by
+//     moving the live ones down (compact_pool) when the pool would
+//     otherwise have to grow with an eighth of it abandoned;
 //   * removed faces are marked deleted and stay in place; when the face
 //     array has doubled, the live faces and edges move down in order
 //     (compact_working), and the end compacts the rest in the same walk
@@ -19,6 +25,8 @@
 #include <hedra/hull/assert.hpp>
 #include <hedra/hull/quickhull.hpp>
 #include <limits>
+#include <memory>
+#include <utility>
 
 #include "mesh_checks.hpp"
 #include "outside_search.hpp"
@@ -71,10 +79,40 @@ struct WorkFace {
   Vec3 centroid;
   double area;
   Index edge;
-  Index conflict;  // first point of the conflict list, or kInvalidIndex
+  Index begin;    // conflict list: pool[begin, begin + count), the newest last
+  Index count;
   Mark mark;
 
   double distance(const Vec3& p) const { return normal.dot(p) - offset; }
+};
+
+// A conflict point: its (recentred) coordinates and its input index.
+struct Conflict {
+  Vec3 p;
+  Index point;
+};
+
+// An allocator whose resize leaves new elements default-initialised
+// (uninitialised for these plain structs) instead of zeroing them: for the
+// pool, the faces and the edges, whose new slots are all written before
+// they are read (make_room's callers, build_cone).
+template <class T>
+struct UninitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitAllocator<U>;
+  };
+  UninitAllocator() = default;
+  template <class U>
+  UninitAllocator(const UninitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
 };
 
 // The polygon [a, b, c] is counter-clockwise seen from the side its normal
@@ -86,15 +124,25 @@ Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - 
 struct QuickhullBuilder::Impl {
   // Working state, kept between builds to avoid reallocation.
   std::vector<Vec3> pts;             // recentred input
-  std::vector<Index> conflict_next;  // per point: next in its face's conflict list
-  std::vector<WorkEdge> edges;
-  std::vector<WorkFace> faces;
+  std::vector<Index> vertex_of;      // per point: its output vertex (set by survey)
+  std::vector<Conflict, UninitAllocator<Conflict>> pool;  // the faces' conflict ranges, and abandoned ones
+  std::size_t pool_live = 0;         // entries of the pool in live ranges
+  std::vector<Index> assign_face;    // note()d face per item
+  std::vector<Index> pending;        // per face: points about to join (place_noted), else 0
+  std::size_t bulk_need = 0;         // pool entries the noted points need, their faces' included
+  // (start, face) of every range placed since the last compact_pool, in
+  // pool order (ranges are only ever placed at the pool's end); stale when
+  // the face has moved on. compact_pool walks it instead of sorting.
+  std::vector<std::pair<Index, Index>> ranges;
+  std::vector<WorkEdge, UninitAllocator<WorkEdge>> edges;
+  std::vector<WorkFace, UninitAllocator<WorkFace>> faces;
   std::vector<Index> horizon;
   std::vector<Index> visible;
   std::vector<Index> new_faces;
-  std::vector<Index> orphans;
+  std::vector<Conflict> orphans;
   std::vector<Index> discarded;
   std::vector<Index> ring;  // a face's vertices, for plane fitting
+  std::vector<std::uint8_t> flagged;  // merge_new_faces: per new face, concave seen from the smaller side
   bool collapsed = false;   // a merge found the solid flattened (see absorb)
   struct ConePlane {
     Vec3 normal;
@@ -155,7 +203,7 @@ struct QuickhullBuilder::Impl {
   }
 
   Index add_face() {
-    faces.push_back(WorkFace{Vec3::Zero(), 0.0, Vec3::Zero(), 0.0, kInvalidIndex, kInvalidIndex, Mark::alive});
+    faces.push_back(WorkFace{Vec3::Zero(), 0.0, Vec3::Zero(), 0.0, kInvalidIndex, 0, 0, Mark::alive});
     return static_cast<Index>(faces.size() - 1);
   }
   Index add_edge(Index origin, Index face) {
@@ -176,25 +224,99 @@ struct QuickhullBuilder::Impl {
     edges[b].twin = a;
   }
 
-  // Every caller has checked that p lies more than eps in front of f (the
+  // Gives face f room for `extra` more points after its range: in place when
+  // the range ends the pool, otherwise the range moves to the pool's end
+  // (its old place is abandoned). Invalidates references into the pool.
+  void make_room(Index f, std::size_t extra) {
+    WorkFace& face = faces[f];
+    const std::size_t end = pool.size();
+    if (face.count > 0 && face.begin + face.count == end) {  // listed in `ranges` already
+      pool.resize(end + extra);
+      return;
+    }
+    pool.resize(end + face.count + extra);
+    std::copy(pool.begin() + face.begin, pool.begin() + face.begin + face.count, pool.begin() + end);
+    face.begin = static_cast<Index>(end);
+    ranges.emplace_back(face.begin, f);
+  }
+  // Every caller has checked that c lies more than eps in front of f (the
   // plane may tilt later, when f merges: the eye is rechecked then).
-  void push_conflict(Index f, Index p) {
-    HEDRA_ASSERT(faces[f].distance(pts[p]) > eps);
-    conflict_next[p] = faces[f].conflict;
-    faces[f].conflict = p;
+  void push_conflict(Index f, const Conflict& c) {
+    HEDRA_ASSERT(faces[f].distance(c.p) > eps);
+    make_room(f, 1);
+    pool[faces[f].begin + faces[f].count++] = c;
+    ++pool_live;
+  }
+  // Bulk placement, in two steps: note(i, f) for every item i < m in order
+  // (f = kInvalidIndex: none), then place_noted(m, item) appends item(i) to
+  // the conflict list of its face, in the order of i: what pushing them one
+  // by one would give, with each face's range moved at most once.
+  void begin_notes(std::size_t m) {
+    assign_face.resize(m);
+    if (pending.size() < faces.size()) pending.resize(faces.size(), 0);
+    bulk_need = 0;
+  }
+  void note(std::size_t i, Index f) {
+    assign_face[i] = f;
+    if (f == kInvalidIndex) return;
+    if (pending[f]++ == 0) bulk_need += faces[f].count;
+    ++bulk_need;
+  }
+  template <class Item>
+  void place_noted(std::size_t m, Item&& item) {
+    const std::size_t need = bulk_need;
+    if (pool.size() + need > pool.capacity()) {
+      // Compacting costs the live entries and the ranges placed since the
+      // last time (fewer than the entries placed): done when it frees an
+      // eighth of the pool, rather than growing it (a reallocation holds the
+      // old and the new pool at once).
+      if (8 * (pool.size() - pool_live) >= pool.size()) compact_pool();
+      if (pool.size() + need > pool.capacity()) pool.reserve(std::max(pool.size() + need, pool.capacity() / 2 * 3));
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      const Index f = assign_face[i];
+      if (f == kInvalidIndex) continue;
+      if (pending[f] > 0) {
+        make_room(f, pending[f]);
+        pending[f] = 0;
+      }
+      HEDRA_ASSERT(faces[f].distance(item(i).p) > eps);
+      pool[faces[f].begin + faces[f].count++] = item(i);
+      ++pool_live;
+    }
+  }
+  // Moves the live ranges down to the start of the pool, in pool order (each
+  // range keeps its order), dropping the abandoned ones. Only between
+  // passes: no caller holds a range being read.
+  void compact_pool() {
+    Index at = 0;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+      const auto [begin, f] = ranges[i];
+      WorkFace& face = faces[f];
+      if (face.mark != Mark::alive || face.count == 0 || face.begin != begin) continue;  // stale
+      std::copy(pool.begin() + begin, pool.begin() + begin + face.count, pool.begin() + at);  // at <= begin
+      face.begin = at;
+      ranges[kept++] = {at, f};
+      at += face.count;
+    }
+    HEDRA_ASSERT(at == pool_live);
+    ranges.resize(kept);
+    pool.resize(at);
   }
   // Moves the conflict points of face `from` to face `to` when they are in
-  // front of it, to the orphan list otherwise.
+  // front of it, to the orphan list otherwise (newest first, as they are
+  // handed out everywhere).
   void move_conflicts(Index from, Index to) {
-    Index p = faces[from].conflict;
-    faces[from].conflict = kInvalidIndex;
-    while (p != kInvalidIndex) {
-      const Index next = conflict_next[p];
-      if (to != kInvalidIndex && faces[to].distance(pts[p]) > eps)
-        push_conflict(to, p);
+    const Index begin = faces[from].begin, count = faces[from].count;
+    faces[from].count = 0;
+    pool_live -= count;
+    for (Index k = count; k-- > 0;) {
+      const Conflict c = pool[begin + k];  // a copy: pushing may move the pool
+      if (to != kInvalidIndex && faces[to].distance(c.p) > eps)
+        push_conflict(to, c);
       else
-        orphans.push_back(p);
-      p = next;
+        orphans.push_back(c);
     }
   }
 
@@ -369,7 +491,7 @@ struct QuickhullBuilder::Impl {
   void merge_new_faces() {
     const std::size_t cap = faces.size() + 1;
     std::vector<Index>& nf = new_faces;
-    std::vector<std::uint8_t> flagged(nf.size(), 0);  // small: one byte per new face
+    flagged.assign(nf.size(), 0);
     for (std::size_t i = 0; i < nf.size() && !collapsed; ++i) {
       if (faces[nf[i]].mark != Mark::alive) continue;
       bool nonconvex = false;
@@ -464,13 +586,14 @@ struct QuickhullBuilder::Impl {
   void remove_visible_faces(Index eye) {
     orphans.clear();
     for (Index f : visible) {
-      faces[f].mark = Mark::deleted;
-      Index p = faces[f].conflict;
-      faces[f].conflict = kInvalidIndex;
-      while (p != kInvalidIndex) {
-        if (p != eye) orphans.push_back(p);
-        p = conflict_next[p];
+      WorkFace& face = faces[f];
+      face.mark = Mark::deleted;
+      for (Index k = face.count; k-- > 0;) {
+        const Conflict& c = pool[face.begin + k];
+        if (c.point != eye) orphans.push_back(c);
       }
+      pool_live -= face.count;
+      face.count = 0;
     }
   }
 
@@ -478,19 +601,32 @@ struct QuickhullBuilder::Impl {
   // faces beyond the horizon and to each other around the eye.
   void build_cone(Index eye) {
     new_faces.clear();
-    Index first_side = kInvalidIndex, prev_side = kInvalidIndex;
-    for (Index h : horizon) {
-      const Index a = edges[h].origin, b = edges[edges[h].twin].origin;
-      const Index f = add_triangle(a, b, eye);
-      const Index e0 = faces[f].edge, e1 = edges[e0].next, e2 = edges[e1].next;
-      link_twins(e0, edges[h].twin);
-      if (prev_side != kInvalidIndex) link_twins(prev_side, e2);
-      if (first_side == kInvalidIndex) first_side = e2;
-      prev_side = e1;
+    // Triangle i is face f0 + i with edges e0 + 3i (a->b), + 1 (b->eye),
+    // + 2 (eye->a); its side edges meet those of triangles i + 1 and i - 1
+    // around the horizon. The arrays grow once for the whole cone.
+    const Index m = static_cast<Index>(horizon.size());
+    const Index f0 = static_cast<Index>(faces.size()), e0 = static_cast<Index>(edges.size());
+    // Capacity doubles, as one push at a time would give (resize alone would
+    // size it after the current length, up to twice the memory).
+    if (f0 + m > faces.capacity()) faces.reserve(std::max<std::size_t>(2 * faces.capacity(), f0 + m));
+    if (e0 + 3 * m > edges.capacity()) edges.reserve(std::max<std::size_t>(2 * edges.capacity(), e0 + 3 * m));
+    faces.resize(f0 + m);
+    edges.resize(e0 + 3 * m);
+    for (Index i = 0; i < m; ++i) {
+      const Index h = horizon[i], f = f0 + i, base = e0 + 3 * i;
+      const Index outer = edges[h].twin;
+      const Index before = e0 + 3 * ((i + m - 1) % m), after = e0 + 3 * ((i + 1) % m);
+      edges[base] = WorkEdge{edges[h].origin, outer, base + 1, base + 2, f};
+      edges[base + 1] = WorkEdge{edges[outer].origin, after + 2, base + 2, base, f};
+      edges[base + 2] = WorkEdge{eye, before + 1, base, base + 1, f};
+      edges[outer].twin = base;
+      WorkFace& face = faces[f];
+      face.edge = base;
+      face.begin = face.count = 0;
+      face.mark = Mark::alive;
       update_face(f);
       new_faces.push_back(f);
     }
-    link_twins(prev_side, first_side);
 #if HEDRA_ASSERTS_ENABLED
     // The horizon is one closed loop, so each side edge meets its twin
     // running the other way: the cone's links agree around the eye.
@@ -512,8 +648,9 @@ struct QuickhullBuilder::Impl {
     cone.clear();
     for (Index f : new_faces)
       if (faces[f].mark == Mark::alive) cone.push_back({faces[f].normal, faces[f].offset, f});
-    for (Index p : orphans) {
-      const Vec3& q = pts[p];
+    begin_notes(orphans.size());
+    for (std::size_t i = 0; i < orphans.size(); ++i) {
+      const Vec3& q = orphans[i].p;
       Index best = kInvalidIndex;
       double best_distance = eps;
       for (const ConePlane& c : cone) {
@@ -524,8 +661,9 @@ struct QuickhullBuilder::Impl {
           if (d > 1000 * eps) break;
         }
       }
-      if (best != kInvalidIndex) push_conflict(best, p);
+      note(i, best);
     }
+    place_noted(orphans.size(), [&](std::size_t i) -> const Conflict& { return orphans[i]; });
   }
 
   // ---- degenerate hulls ---------------------------------------------------
@@ -736,6 +874,8 @@ struct QuickhullBuilder::Impl {
     c /= count;
     std::size_t reinserted = 0;
     bool prepared = false;  // on the first point that is not a vertex (a sphere's are all vertices)
+    begin_notes(n);
+    std::fill(assign_face.begin(), assign_face.end(), kInvalidIndex);
     for (Index i = 0; i < n; ++i) {
       if (point_stamp[i] == stamp) continue;  // a vertex
       if (!prepared &&
@@ -748,9 +888,10 @@ struct QuickhullBuilder::Impl {
       // front of a face through that vertex (itself within 4 eps of the
       // plane). 6 eps stays inside mesh.tolerance() = 8 eps + rounding.
       if (face == kInvalidIndex || d <= 6 * eps) continue;
-      push_conflict(face, i);
+      note(i, face);
       ++reinserted;
     }
+    if (reinserted > 0) place_noted(n, [&](std::size_t i) { return Conflict{pts[i], static_cast<Index>(i)}; });
     return reinserted;
   }
 
@@ -825,7 +966,10 @@ struct QuickhullBuilder::Impl {
     faces.clear();
     compacted_size = 0;
     collapsed = false;
-    conflict_next.assign(n, kInvalidIndex);
+    vertex_of.resize(n);
+    pool.clear();
+    pool_live = 0;
+    ranges.clear();
     point_stamp.assign(n, 0);
     stamp = 0;
     if (s.normal.dot(pts[s.i3] - pts[s.i0]) > 0) std::swap(s.i1, s.i2);  // base must face away from i3
@@ -852,16 +996,21 @@ struct QuickhullBuilder::Impl {
   // Step 4 for the simplex: each point goes to the face it is farthest in
   // front of, if any.
   void assign_initial_conflicts(const Simplex& s, std::size_t n) {
+    begin_notes(n);
     for (Index i = 0; i < n; ++i) {
-      if (i == s.i0 || i == s.i1 || i == s.i2 || i == s.i3) continue;
+      if (i == s.i0 || i == s.i1 || i == s.i2 || i == s.i3) {
+        note(i, kInvalidIndex);
+        continue;
+      }
       Index best_face = kInvalidIndex;
       double best_distance = eps;
       for (Index f = 0; f < 4; ++f) {
         const double d = faces[f].distance(pts[i]);
         if (d > best_distance) best_distance = d, best_face = f;
       }
-      if (best_face != kInvalidIndex) push_conflict(best_face, i);
+      note(i, best_face);
     }
+    place_noted(n, [&](std::size_t i) { return Conflict{pts[i], static_cast<Index>(i)}; });
   }
 
   // ---- main loop ----------------------------------------------------------
@@ -891,7 +1040,7 @@ struct QuickhullBuilder::Impl {
   // the attempt is abandoned (collapsed) or the cap is reached.
   void drain_conflicts(std::size_t cap, QuickhullResult& r) {
     for (Index cursor = 0; cursor < faces.size() && !collapsed;) {
-      if (faces[cursor].mark != Mark::alive || faces[cursor].conflict == kInvalidIndex) {
+      if (faces[cursor].mark != Mark::alive || faces[cursor].count == 0) {
         ++cursor;
         continue;
       }
@@ -933,10 +1082,11 @@ struct QuickhullBuilder::Impl {
         e = edges[e].next;
       } while (e != faces[f].edge && ++guard <= edges.size());
     }
-    for (Index e = 0; e < edges.size(); ++e)
-      if (edge_renumber[e] != kInvalidIndex) edge_renumber[e] = ne++;
+    // Numbering and the check that live edges link only to live elements,
+    // in one pass (the check reads liveness, which numbering keeps).
     for (Index e = 0; e < edges.size(); ++e) {
       if (edge_renumber[e] == kInvalidIndex) continue;
+      edge_renumber[e] = ne++;
       const WorkEdge& w = edges[e];
       if (edge_renumber[w.twin] == kInvalidIndex || edge_renumber[w.next] == kInvalidIndex ||
           edge_renumber[w.prev] == kInvalidIndex || face_renumber[w.face] == kInvalidIndex)
@@ -956,6 +1106,11 @@ struct QuickhullBuilder::Impl {
       face.edge = edge_renumber[face.edge];
       faces[face_renumber[f]] = face;
     }
+    // The pool's range list follows the faces (a removed face's ranges are stale).
+    std::size_t kept = 0;
+    for (const auto& [begin, f] : ranges)
+      if (face_renumber[f] != kInvalidIndex) ranges[kept++] = {begin, face_renumber[f]};
+    ranges.resize(kept);
     const Index moved = face_renumber[cursor];
     faces.resize(nf);
     edges.resize(ne);
@@ -963,20 +1118,23 @@ struct QuickhullBuilder::Impl {
     return moved;
   }
 
-  // Unlinks the farthest conflict point of face f (the eye) and returns it,
-  // with its distance in front of f.
+  // Removes the farthest conflict point of face f (the eye; of equally far
+  // ones, the newest) and returns it, with its distance in front of f. The
+  // points after it move down one place: the list keeps its order.
   Index pop_eye(Index f, double& eye_distance) {
     WorkFace& face = faces[f];
-    Index eye = kInvalidIndex, eye_prev = kInvalidIndex, prev = kInvalidIndex;
+    HEDRA_ASSERT(face.count > 0);
+    const Conflict* list = pool.data() + face.begin;
+    Index at = face.count - 1;
     eye_distance = -std::numeric_limits<double>::infinity();
-    for (Index p = face.conflict; p != kInvalidIndex; prev = p, p = conflict_next[p]) {
-      const double d = face.distance(pts[p]);
-      if (d > eye_distance) eye_distance = d, eye = p, eye_prev = prev;
+    for (Index k = face.count; k-- > 0;) {
+      const double d = face.distance(list[k].p);
+      if (d > eye_distance) eye_distance = d, at = k;
     }
-    if (eye_prev == kInvalidIndex)
-      face.conflict = conflict_next[eye];
-    else
-      conflict_next[eye_prev] = conflict_next[eye];
+    const Index eye = list[at].point;
+    std::copy(pool.begin() + face.begin + at + 1, pool.begin() + face.begin + face.count, pool.begin() + face.begin + at);
+    --face.count;
+    --pool_live;
     return eye;
   }
 
@@ -1029,7 +1187,7 @@ struct QuickhullBuilder::Impl {
   // One walk over the live faces numbers them, their edges and their
   // vertices for compaction (faces and edges in face order, vertices in order
   // of first use: their input indices go to r.input_index, point -> vertex to
-  // conflict_next) and, when `check`, looks at what a sound solid needs:
+  // vertex_of) and, when `check`, looks at what a sound solid needs:
   // every cycle closes with >= 3 edges whose links agree, no edge is a loop
   // (then V - E + F = 2 rules out pinched, non-manifold vertices), every face
   // is planar and every edge convex within 4 eps (the vertices next to it in
@@ -1072,7 +1230,7 @@ struct QuickhullBuilder::Impl {
         const Index p = edges[e].origin;
         if (point_stamp[p] != stamp) {
           point_stamp[p] = stamp;
-          conflict_next[p] = static_cast<Index>(r.input_index.size());  // reuse as point -> vertex
+          vertex_of[p] = static_cast<Index>(r.input_index.size());
           r.input_index.push_back(p);
         }
         e = edges[e].next;
@@ -1249,7 +1407,7 @@ void QuickhullBuilder::Impl::compact(const Eigen::Vector3d* input, QuickhullResu
     if (edge_map[e] == kInvalidIndex) continue;
     const WorkEdge& w = edges[e];
     HalfEdge& h = m.edges[edge_map[e]];
-    h.origin = conflict_next[w.origin];
+    h.origin = vertex_of[w.origin];
     h.twin = edge_map[w.twin];
     h.next = edge_map[w.next];
     h.prev = edge_map[w.prev];
