@@ -164,20 +164,42 @@ inline hull::Index polyhedron_support_climb(const ConvexPolyhedron& poly, const 
       current_value = other_value;
     }
   }
+  // The row of `current` to look at, as two ranges in the row's order: all
+  // of it at the first step; after a step from u, without the run of u and
+  // u's neighbours around u (ConvexPolyhedron::entry_rows). Those were all
+  // compared at u's step and none beat `current` there, so none is
+  // strictly above current_value: the walk, ties included, is the same as
+  // over the whole row.
+  const hull::Index* const rows = poly.neighbors();
+  const hull::Index* first = poly.neighbors_begin(current);
+  const hull::Index* first_end = poly.neighbors_end(current);
+  const hull::Index* second = first_end;
+  const hull::Index* second_end = first_end;
   for (std::size_t step = 0; step < n; ++step) {
-    hull::Index best = current;
+    const hull::Index* best = nullptr;
     double best_value = current_value;
-    const hull::Index* const end = poly.neighbors_end(current);
-    for (const hull::Index* it = poly.neighbors_begin(current); it != end; ++it) {
+    for (const hull::Index* it = first; it != first_end; ++it) {
       const double value = dot3(d, v[*it]);
       if (value > best_value) {
         best_value = value;
-        best = *it;
+        best = it;
       }
     }
-    if (best == current) return current;
-    current = best;
+    for (const hull::Index* it = second; it != second_end; ++it) {
+      const double value = dot3(d, v[*it]);
+      if (value > best_value) {
+        best_value = value;
+        best = it;
+      }
+    }
+    if (best == nullptr) return current;
+    current = *best;
     current_value = best_value;
+    const ConvexPolyhedron::EntryRows& entry = poly.entry_rows(static_cast<std::size_t>(best - rows));
+    first = rows + entry.first_begin;
+    first_end = rows + entry.first_end;
+    second = rows + entry.second_begin;
+    second_end = poly.neighbors_end(current);
   }
   // Unreachable on a valid hull with a finite direction (see above).
   return polyhedron_support_scan(poly, d);
