@@ -145,6 +145,15 @@ bool is_valid(const Shape& s) {
   return std::visit([](const auto& shape) { return is_valid_shape(shape); }, s);
 }
 
+bool is_valid(const Shape& s, double& radius) {
+  return std::visit(
+      [&radius](const auto& shape) {
+        radius = bounding_radius(shape);
+        return is_valid_shape(shape);
+      },
+      s);
+}
+
 double bounding_radius(const Sphere& s) { return s.radius + s.margin; }
 double bounding_radius(const Box& s) { return s.half_extents.norm() + s.margin; }
 double bounding_radius(const Capsule& s) { return s.half_length + s.radius + s.margin; }

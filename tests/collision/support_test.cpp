@@ -371,6 +371,27 @@ TEST(ShapeValidation, RejectsNegativeAndNonFinite) {
   EXPECT_NE(validate(Shape(Sphere{-1.0, 0.0})).message.find("-1"), std::string::npos);
 }
 
+// The queries' one-dispatch check: the same verdict as validate() and the
+// same radius as bounding_radius(), valid or not.
+TEST(ShapeValidation, CheckWithRadiusAgreesWithValidateAndBoundingRadius) {
+  const auto hull = make_hull({{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3}});
+  const std::vector<Shape> shapes = {Sphere{1.0, 0.5},          Sphere{-1.0, 0.0},       Box{{1.0, 2.0, 3.0}, 0.1},
+                                     Box{{1.0, -2.0, 1.0}, 0.0}, Capsule{1.0, 0.5, 0.0},  Capsule{1.0, std::nan(""), 0.0},
+                                     Cylinder{1.0, 2.0, 0.0},   Cylinder{1.0, 1.0, -0.1}, Cone{1.0, 2.0, 0.3},
+                                     Cone{1.0, INFINITY, 0.0},   Polyhedron{hull, 0.25},  Polyhedron{nullptr, 0.0}};
+  int valid = 0;
+  for (const Shape& s : shapes) {
+    double radius = -1.0;
+    const bool ok = is_valid(s, radius);
+    EXPECT_EQ(ok, validate(s).ok());
+    EXPECT_EQ(ok, is_valid(s));
+    const double expected = bounding_radius(s);
+    EXPECT_TRUE(radius == expected || (std::isnan(radius) && std::isnan(expected)));
+    valid += ok;
+  }
+  EXPECT_EQ(valid, 6);
+}
+
 // Analytic supports: the returned point lies on the shape and no sample of
 // the surface beats it.
 TEST(AnalyticSupport, NoSurfaceSampleBeatsTheSupport) {

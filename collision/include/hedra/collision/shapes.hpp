@@ -198,6 +198,9 @@ ShapeValidation validate(const Shape& s);
 // validate(s).ok() without building a message: what queries check on every
 // call (no allocation, a few comparisons).
 bool is_valid(const Shape& s);
+// is_valid(s), and bounding_radius(s) into `radius` (whatever the answer),
+// in one dispatch: what queries check first.
+bool is_valid(const Shape& s, double& radius);
 
 // Radius of a ball around the local origin holding the whole shape (margin
 // included). For a polyhedron the ball is centred on offset() instead, the
