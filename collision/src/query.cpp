@@ -78,8 +78,12 @@ void place_in_world(Result& out, const Eigen::Vector3d& offset_a, const Pose& po
   out.point_b = pose_a.rotation * (offset_a + local_b) + pose_a.translation;
 }
 
+// pair_in_range() without its second look at the radii when they settle
+// it (a pair with a shape of at least min_pair_extent is in range).
 bool inputs_valid(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
-  return pose_a.valid() && pose_b.valid() && is_valid(a) && is_valid(b) && pair_in_range(a, pose_a, b, pose_b);
+  double radius_a = 0.0, radius_b = 0.0;
+  return pose_a.valid() && pose_b.valid() && is_valid(a, radius_a) && is_valid(b, radius_b) &&
+         (std::max(radius_a, radius_b) >= min_pair_extent || pair_in_range(a, pose_a, b, pose_b));
 }
 
 // Everything a query needs, typed: both cores, B's core in A's core frame,

@@ -145,6 +145,15 @@ bool is_valid(const Shape& s) {
   return std::visit([](const auto& shape) { return is_valid_shape(shape); }, s);
 }
 
+bool is_valid(const Shape& s, double& radius) {
+  return std::visit(
+      [&radius](const auto& shape) {
+        radius = bounding_radius(shape);
+        return is_valid_shape(shape);
+      },
+      s);
+}
+
 double bounding_radius(const Sphere& s) { return s.radius + s.margin; }
 double bounding_radius(const Box& s) { return s.half_extents.norm() + s.margin; }
 double bounding_radius(const Capsule& s) { return s.half_length + s.radius + s.margin; }
@@ -195,6 +204,44 @@ void ConvexPolyhedron::build_blocks() {
     start_ids_.push_back(best);
   }
   append_blocks(vertices_, start_ids_.data(), start_ids_.size(), start_ids_[0], start_blocks_);
+}
+
+void ConvexPolyhedron::build_entry_rows() {
+  const std::size_t n = vertices_.size();
+  entry_rows_.assign(neighbors_.size(), EntryRows{0, 0, 0});
+  // mark[x] == u + 1: x is u or one of u's neighbours.
+  std::vector<std::size_t> mark(n, 0);
+  for (hull::Index u = 0; u < n; ++u) {
+    const std::uint32_t begin = neighbor_offsets_[u], end = neighbor_offsets_[u + 1];
+    mark[u] = u + 1;
+    for (std::uint32_t s = begin; s < end; ++s) mark[neighbors_[s]] = u + 1;
+    for (std::uint32_t s = begin; s < end; ++s) {
+      const hull::Index w = neighbors_[s];
+      const std::uint32_t row = neighbor_offsets_[w];
+      const std::ptrdiff_t k = static_cast<std::ptrdiff_t>(neighbor_offsets_[w + 1] - row);
+      const hull::Index* const x = neighbors_.data() + row;
+      std::ptrdiff_t r = 0;
+      while (r < k && x[r] != u) ++r;
+      if (r == k) {  // u missing from w's row (not on a valid mesh): look at all of it
+        entry_rows_[s] = {row, row + static_cast<std::uint32_t>(k), row + static_cast<std::uint32_t>(k)};
+        continue;
+      }
+      // The run around position r of u and u's neighbours, at most the row.
+      const auto at = [&](std::ptrdiff_t i) { return x[((i % k) + k) % k]; };
+      std::ptrdiff_t lo = r, count = 1;
+      while (count < k && mark[at(lo - 1)] == u + 1) --lo, ++count;
+      while (count < k && mark[at(lo + count)] == u + 1) ++count;
+      const std::ptrdiff_t start = ((lo % k) + k) % k;
+      const auto pos = [row](std::ptrdiff_t i) { return row + static_cast<std::uint32_t>(i); };
+      if (count == k) {
+        entry_rows_[s] = {pos(k), pos(k), pos(k)};
+      } else if (start + count <= k) {
+        entry_rows_[s] = {pos(0), pos(start), pos(start + count)};
+      } else {  // the run wraps past the row's end: what is left is one range
+        entry_rows_[s] = {pos(start + count - k), pos(start), pos(k)};
+      }
+    }
+  }
 }
 
 ConvexPolyhedron::BuildResult ConvexPolyhedron::build(const std::vector<Eigen::Vector3d>& points,
@@ -261,6 +308,7 @@ ConvexPolyhedron::BuildResult ConvexPolyhedron::build(const std::vector<Eigen::V
     poly->neighbor_offsets_[v + 1] = static_cast<std::uint32_t>(poly->neighbors_.size());
   }
   poly->build_blocks();
+  poly->build_entry_rows();
   result.polyhedron = std::move(poly);
   return result;
 }

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <hedra/collision/minkowski.hpp>
 #include <hedra/collision/support.hpp>
@@ -134,6 +135,83 @@ TEST(PolyhedronSupport, ClimbMatchesBruteForceOnRandomHulls) {
   EXPECT_GT(stats.checks, 50000);
   // Almost every answer is bit-exact; the rest are rounding-level ties.
   EXPECT_GT(stats.exact, stats.checks * 99 / 100);
+}
+
+// The climb over whole neighbour rows, steepest ascent, first maximum in
+// row order: what polyhedron_support_climb must return, ties included, now
+// that it leaves out the part of a row its last step has already compared.
+hull::Index climb_over_whole_rows(const ConvexPolyhedron& poly, const Eigen::Vector3d& d, hull::Index current) {
+  double current_value = dot3(d, poly.vertex(current));
+  for (std::size_t step = 0; step < poly.vertex_count(); ++step) {
+    hull::Index best = current;
+    double best_value = current_value;
+    for (const hull::Index* it = poly.neighbors_begin(current); it != poly.neighbors_end(current); ++it) {
+      const double value = dot3(d, poly.vertex(*it));
+      if (value > best_value) {
+        best_value = value;
+        best = *it;
+      }
+    }
+    if (best == current) return current;
+    current = best;
+    current_value = best_value;
+  }
+  return current;
+}
+
+// Every edge slot u -> w: the two ranges lie in w's row, in order, and what
+// they leave out of it is u and neighbours of u only, u always; on a hull of
+// triangles (random points) at least u and the two apexes of the edge (a
+// third common neighbour next to them goes too).
+void check_entry_rows(const ConvexPolyhedron& poly, bool triangulated) {
+  for (hull::Index u = 0; u < poly.vertex_count(); ++u) {
+    for (const hull::Index* slot = poly.neighbors_begin(u); slot != poly.neighbors_end(u); ++slot) {
+      const hull::Index w = *slot;
+      const ConvexPolyhedron::EntryRows& e = poly.entry_rows(static_cast<std::size_t>(slot - poly.neighbors()));
+      const std::uint32_t begin = poly.neighbor_offset(w), end = poly.neighbor_offset(w + 1);
+      ASSERT_LE(begin, e.first_begin);
+      ASSERT_LE(e.first_begin, e.first_end);
+      ASSERT_LE(e.first_end, e.second_begin);
+      ASSERT_LE(e.second_begin, end);
+      std::size_t left_out = 0;
+      bool u_left_out = false;
+      for (std::uint32_t q = begin; q < end; ++q) {
+        if ((q >= e.first_begin && q < e.first_end) || q >= e.second_begin) continue;
+        const hull::Index x = poly.neighbors()[q];
+        ++left_out;
+        u_left_out = u_left_out || x == u;
+        ASSERT_TRUE(x == u || std::find(poly.neighbors_begin(u), poly.neighbors_end(u), x) != poly.neighbors_end(u))
+            << "slot " << u << " -> " << w << " leaves out " << x;
+      }
+      ASSERT_TRUE(u_left_out);
+      if (triangulated && end - begin > 3) {
+        EXPECT_GE(left_out, 3u);
+      }
+    }
+  }
+}
+
+TEST(PolyhedronSupport, ClimbLeavesOutOnlyWhatItsLastStepCompared) {
+  std::mt19937_64 rng(20261126);
+  std::uniform_int_distribution<int> size(4, 150);
+  std::vector<std::vector<Eigen::Vector3d>> inputs = {gridded_box({1.0, 2.0, 3.0}, 6)};
+  for (int n : {3, 4, 5, 8, 17, 64}) inputs.push_back(prism(n, 1.0, n % 2 ? 0.01 : 5.0));
+  const std::size_t shaped = inputs.size();
+  for (int trial = 0; trial < 300; ++trial) inputs.push_back(random_ball_points(rng, size(rng), trial % 2 == 0));
+  long checks = 0;
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    const auto poly = make_hull(inputs[i]);
+    ASSERT_TRUE(poly);
+    check_entry_rows(*poly, i >= shaped);
+    for (const Eigen::Vector3d& d : directions_for(*poly, rng, 20)) {
+      for (hull::Index s : starts_for(*poly, rng, 4)) {
+        ASSERT_EQ(polyhedron_support_climb(*poly, d, s), climb_over_whole_rows(*poly, d, s))
+            << "start " << s << " direction " << d.transpose() << " vertices " << poly->vertex_count();
+        ++checks;
+      }
+    }
+  }
+  EXPECT_GT(checks, 20000);
 }
 
 TEST(PolyhedronSupport, ClimbIsExactOnPlateaus) {
@@ -291,6 +369,27 @@ TEST(ShapeValidation, RejectsNegativeAndNonFinite) {
   EXPECT_EQ(validate(Shape(Cone{1.0, INFINITY, 0.0})).error, ShapeError::non_finite);
   EXPECT_EQ(validate(Shape(Polyhedron{nullptr, 0.0})).error, ShapeError::null_polyhedron);
   EXPECT_NE(validate(Shape(Sphere{-1.0, 0.0})).message.find("-1"), std::string::npos);
+}
+
+// The queries' one-dispatch check: the same verdict as validate() and the
+// same radius as bounding_radius(), valid or not.
+TEST(ShapeValidation, CheckWithRadiusAgreesWithValidateAndBoundingRadius) {
+  const auto hull = make_hull({{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3}});
+  const std::vector<Shape> shapes = {Sphere{1.0, 0.5},          Sphere{-1.0, 0.0},       Box{{1.0, 2.0, 3.0}, 0.1},
+                                     Box{{1.0, -2.0, 1.0}, 0.0}, Capsule{1.0, 0.5, 0.0},  Capsule{1.0, std::nan(""), 0.0},
+                                     Cylinder{1.0, 2.0, 0.0},   Cylinder{1.0, 1.0, -0.1}, Cone{1.0, 2.0, 0.3},
+                                     Cone{1.0, INFINITY, 0.0},   Polyhedron{hull, 0.25},  Polyhedron{nullptr, 0.0}};
+  int valid = 0;
+  for (const Shape& s : shapes) {
+    double radius = -1.0;
+    const bool ok = is_valid(s, radius);
+    EXPECT_EQ(ok, validate(s).ok());
+    EXPECT_EQ(ok, is_valid(s));
+    const double expected = bounding_radius(s);
+    EXPECT_TRUE(radius == expected || (std::isnan(radius) && std::isnan(expected)));
+    valid += ok;
+  }
+  EXPECT_EQ(valid, 6);
 }
 
 // Analytic supports: the returned point lies on the shape and no sample of

@@ -37,7 +37,17 @@ struct Pose {
   bool finite() const { return rotation.allFinite() && translation.allFinite(); }
   // What queries accept: finite, with every translation coordinate within
   // max_coordinate (squared distances between bodies must not overflow).
-  bool valid() const { return finite() && translation.cwiseAbs().maxCoeff() <= max_coordinate; }
+  // Written out: x - x is 0 for every finite x and NaN otherwise, so the sum
+  // over the rotation is 0 exactly when all nine are finite; a NaN or
+  // infinite translation fails its comparison.
+  bool valid() const {
+    const double* r = rotation.data();
+    const double rotation_rounding =
+        (((r[0] - r[0]) + (r[1] - r[1])) + ((r[2] - r[2]) + (r[3] - r[3]))) +
+        (((r[4] - r[4]) + (r[5] - r[5])) + ((r[6] - r[6]) + (r[7] - r[7]))) + (r[8] - r[8]);
+    return rotation_rounding == 0.0 && std::abs(translation.x()) <= max_coordinate &&
+           std::abs(translation.y()) <= max_coordinate && std::abs(translation.z()) <= max_coordinate;
+  }
 };
 
 }  // namespace hedra::collision

@@ -118,6 +118,23 @@ class ConvexPolyhedron {
   // hulls, whose meshes have no edges).
   const hull::Index* neighbors_begin(hull::Index i) const { return neighbors_.data() + neighbor_offsets_[i]; }
   const hull::Index* neighbors_end(hull::Index i) const { return neighbors_.data() + neighbor_offsets_[i + 1]; }
+  // All rows back to back (row i from neighbor_offsets(i)); a position in
+  // this array is an edge slot: vertex i to its neighbour there.
+  const hull::Index* neighbors() const { return neighbors_.data(); }
+  std::uint32_t neighbor_offset(hull::Index i) const { return neighbor_offsets_[i]; }
+  // For the edge slot s (vertex u to w = neighbors()[s]): the part of w's
+  // row a hill-climb that came from u still has to look at, in the row's
+  // order, as two ranges of positions [first_begin, first_end) and
+  // [second_begin, neighbor_offset(w + 1)). Left out: the run of w's row
+  // around u made of u and neighbours of u (on a triangulated hull u and the
+  // apexes of the two triangles on the edge). A climb steps from u to w only
+  // when w is the best of u's row, so none of those can beat w (support.hpp).
+  struct EntryRows {
+    std::uint32_t first_begin;
+    std::uint32_t first_end;
+    std::uint32_t second_begin;
+  };
+  const EntryRows& entry_rows(std::size_t slot) const { return entry_rows_[slot]; }
   // The vertices again in blocks of four, each coordinate apart (the
   // layout of the vectorised support scan, support.hpp); the last block is
   // padded with copies of vertex 0, which never beat vertex 0 itself.
@@ -146,6 +163,8 @@ class ConvexPolyhedron {
   ConvexPolyhedron() = default;
   // vertex_blocks() and the start vertices, from vertices_.
   void build_blocks();
+  // entry_rows_, from the neighbour rows.
+  void build_entry_rows();
 
   Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> vertices_;
@@ -154,6 +173,7 @@ class ConvexPolyhedron {
   std::vector<hull::Index> start_ids_;
   std::vector<std::uint32_t> neighbor_offsets_;  // vertex_count() + 1 entries
   std::vector<hull::Index> neighbors_;
+  std::vector<EntryRows> entry_rows_;  // one per entry of neighbors_
   hull::HalfEdgeMesh mesh_;
   int dimension_ = 0;  // mesh_.dimension(), kept: the support mapping asks on every call
   double bounding_radius_ = 0.0;
@@ -178,6 +198,9 @@ ShapeValidation validate(const Shape& s);
 // validate(s).ok() without building a message: what queries check on every
 // call (no allocation, a few comparisons).
 bool is_valid(const Shape& s);
+// is_valid(s), and bounding_radius(s) into `radius` (whatever the answer),
+// in one dispatch: what queries check first.
+bool is_valid(const Shape& s, double& radius);
 
 // Radius of a ball around the local origin holding the whole shape (margin
 // included). For a polyhedron the ball is centred on offset() instead, the

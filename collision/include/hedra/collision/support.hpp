@@ -28,7 +28,13 @@
 // compares false everywhere and returns the start vertex: callers reject
 // non-finite directions before (GJK does).
 //
-// The crossover (32 vertices) is measured: docs/design.md, "Support
+// After a step from u to w the climb leaves out of w's row the run of u and
+// u's neighbours around u (ConvexPolyhedron::entry_rows: on a triangulated
+// hull u and the two apexes of the edge): all were compared at u's step and
+// none beat w, so none can be strictly above w's value; the walk, ties
+// included, is the one over whole rows.
+//
+// The crossover (16 vertices) is measured: docs/design.md, "Support
 // crossover".
 #pragma once
 
@@ -45,7 +51,7 @@
 
 namespace hedra::collision {
 
-inline constexpr std::size_t kHillClimbCrossover = 32;
+inline constexpr std::size_t kHillClimbCrossover = 16;
 
 // The first index of a vertex maximising d . vertex(i), one vertex at a
 // time: the reference the vectorised scan below must agree with.
@@ -164,20 +170,42 @@ inline hull::Index polyhedron_support_climb(const ConvexPolyhedron& poly, const 
       current_value = other_value;
     }
   }
+  // The row of `current` to look at, as two ranges in the row's order: all
+  // of it at the first step; after a step from u, without the run of u and
+  // u's neighbours around u (ConvexPolyhedron::entry_rows). Those were all
+  // compared at u's step and none beat `current` there, so none is
+  // strictly above current_value: the walk, ties included, is the same as
+  // over the whole row.
+  const hull::Index* const rows = poly.neighbors();
+  const hull::Index* first = poly.neighbors_begin(current);
+  const hull::Index* first_end = poly.neighbors_end(current);
+  const hull::Index* second = first_end;
+  const hull::Index* second_end = first_end;
   for (std::size_t step = 0; step < n; ++step) {
-    hull::Index best = current;
+    const hull::Index* best = nullptr;
     double best_value = current_value;
-    const hull::Index* const end = poly.neighbors_end(current);
-    for (const hull::Index* it = poly.neighbors_begin(current); it != end; ++it) {
+    for (const hull::Index* it = first; it != first_end; ++it) {
       const double value = dot3(d, v[*it]);
       if (value > best_value) {
         best_value = value;
-        best = *it;
+        best = it;
       }
     }
-    if (best == current) return current;
-    current = best;
+    for (const hull::Index* it = second; it != second_end; ++it) {
+      const double value = dot3(d, v[*it]);
+      if (value > best_value) {
+        best_value = value;
+        best = it;
+      }
+    }
+    if (best == nullptr) return current;
+    current = *best;
     current_value = best_value;
+    const ConvexPolyhedron::EntryRows& entry = poly.entry_rows(static_cast<std::size_t>(best - rows));
+    first = rows + entry.first_begin;
+    first_end = rows + entry.first_end;
+    second = rows + entry.second_begin;
+    second_end = poly.neighbors_end(current);
   }
   // Unreachable on a valid hull with a finite direction (see above).
   return polyhedron_support_scan(poly, d);
