@@ -28,13 +28,7 @@
 // compares false everywhere and returns the start vertex: callers reject
 // non-finite directions before (GJK does).
 //
-// After a step from u to w the climb leaves out of w's row the run of u and
-// u's neighbours around u (ConvexPolyhedron::entry_rows: on a triangulated
-// hull u and the two apexes of the edge): all were compared at u's step and
-// none beat w, so none can be strictly above w's value; the walk, ties
-// included, is the one over whole rows.
-//
-// The crossover (16 vertices) is measured: docs/design.md, "Support
+// The crossover (32 vertices) is measured: docs/design.md, "Support
 // crossover".
 #pragma once
 
@@ -51,7 +45,7 @@
 
 namespace hedra::collision {
 
-inline constexpr std::size_t kHillClimbCrossover = 16;
+inline constexpr std::size_t kHillClimbCrossover = 32;
 
 // The first index of a vertex maximising d . vertex(i), one vertex at a
 // time: the reference the vectorised scan below must agree with.
