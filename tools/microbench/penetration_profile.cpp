@@ -186,6 +186,21 @@ std::vector<Case> load(const std::string& file, const std::string& only) {
 // loop), so callgrind's toggle on penetration() sees the queries alone.
 double sink = 0.0;
 
+// The median over 7 loops of 200 calls of ns per call (--time).
+template <class Call>
+double median_ns_per_call(Call&& call) {
+  std::vector<double> loops;
+  for (int loop = 0; loop < 7; ++loop) {
+    const int k = 200;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < k; ++i) sink += call();
+    const auto t1 = std::chrono::steady_clock::now();
+    loops.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / k);
+  }
+  std::nth_element(loops.begin(), loops.begin() + 3, loops.end());
+  return loops[3];
+}
+
 int run(const std::string& file, const std::string& only, int repeat, bool time, const std::string& answers) {
   const std::vector<Case> cases = load(file, only);
   std::FILE* answers_out = answers.empty() ? nullptr : std::fopen(answers.c_str(), "w");
@@ -238,18 +253,7 @@ int run(const std::string& file, const std::string& only, int repeat, bool time,
       std::fprintf(stderr, "FAIL %s: got %.17g (%s), exact %.17g\n", c.family.c_str(), r.distance,
                    col::to_string(r.status), c.exact);
     }
-    if (time) {
-      std::vector<double> loops;
-      for (int loop = 0; loop < 7; ++loop) {
-        const int k = 200;
-        const auto t0 = std::chrono::steady_clock::now();
-        for (int i = 0; i < k; ++i) sink += col::penetration(c.a, c.pose_a, c.b, c.pose_b).distance;
-        const auto t1 = std::chrono::steady_clock::now();
-        loops.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / k);
-      }
-      std::nth_element(loops.begin(), loops.begin() + 3, loops.end());
-      s.ns.push_back(loops[3]);
-    }
+    if (time) s.ns.push_back(median_ns_per_call([&] { return col::penetration(c.a, c.pose_a, c.b, c.pose_b).distance; }));
   }
   int failures = 0;
   for (const std::string& f : order) {
@@ -328,20 +332,11 @@ int run_query(const std::string& file, const std::string& only, int repeat, bool
       ++s.failures;
       std::fprintf(stderr, "FAIL %s %d: exact %.17g\n", c.family.c_str(), s.pairs - 1, c.exact);
     }
-    if (time) {
-      std::vector<double> loops;
-      for (int loop = 0; loop < 7; ++loop) {
-        const int k = 200;
-        const auto t0 = std::chrono::steady_clock::now();
-        for (int i = 0; i < k; ++i)
-          sink += distance ? col::distance(c.a, c.pose_a, c.b, c.pose_b).distance
-                           : (col::intersect(c.a, c.pose_a, c.b, c.pose_b).intersecting ? 1.0 : 0.0);
-        const auto t1 = std::chrono::steady_clock::now();
-        loops.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / k);
-      }
-      std::nth_element(loops.begin(), loops.begin() + 3, loops.end());
-      s.ns.push_back(loops[3]);
-    }
+    if (time)
+      s.ns.push_back(median_ns_per_call([&] {
+        return distance ? col::distance(c.a, c.pose_a, c.b, c.pose_b).distance
+                        : (col::intersect(c.a, c.pose_a, c.b, c.pose_b).intersecting ? 1.0 : 0.0);
+      }));
   }
   int failures = 0;
   for (const std::string& f : order) {
