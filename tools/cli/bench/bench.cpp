@@ -57,16 +57,26 @@ double percentile(const std::vector<double>& sorted, double p) {
 
 double median_of(std::vector<double> values) { return median(std::move(values)); }
 
-MethodAnswer hedra_method_answer(const Method& method, const collision::PenetrationResult& r, double time_ns) {
+// What every hedra answer says: the method, the status and whether it is
+// judged (ok), the verdict and the time.
+MethodAnswer hedra_answer_head(const Method& method, collision::Status status, bool ok, bool intersecting,
+                               double time_ns) {
   MethodAnswer m;
   m.method = method.name;
   m.description = method.description;
   m.supported = true;
-  m.status = collision::to_string(r.status);
-  // Caps and invalid states are failures; `stalled` is judged by its answer.
-  m.ok = r.status == collision::Status::ok || r.status == collision::Status::stalled;
-  m.intersecting = r.intersecting;
+  m.status = collision::to_string(status);
+  m.ok = ok;
+  m.intersecting = intersecting;
   m.time_ns = time_ns;
+  return m;
+}
+
+MethodAnswer hedra_method_answer(const Method& method, const collision::PenetrationResult& r, double time_ns) {
+  // Caps and invalid states are failures; `stalled` is judged by its answer.
+  MethodAnswer m = hedra_answer_head(
+      method, r.status, r.status == collision::Status::ok || r.status == collision::Status::stalled, r.intersecting,
+      time_ns);
   if (!std::isfinite(r.distance) || !r.normal.allFinite() || !r.point_a.allFinite() || !r.point_b.allFinite()) {
     m.ok = false;
     m.status = "non_finite";
@@ -98,15 +108,7 @@ MethodAnswer hedra_method_answer(const Method& method, const collision::Distance
 // intersect(): the verdict alone, defined only when ok (a stall or a cap
 // leaves no verdict: a failure).
 MethodAnswer hedra_method_answer(const Method& method, const collision::IntersectResult& r, double time_ns) {
-  MethodAnswer m;
-  m.method = method.name;
-  m.description = method.description;
-  m.supported = true;
-  m.status = collision::to_string(r.status);
-  m.ok = r.status == collision::Status::ok;
-  m.intersecting = r.intersecting;
-  m.time_ns = time_ns;
-  return m;
+  return hedra_answer_head(method, r.status, r.status == collision::Status::ok, r.intersecting, time_ns);
 }
 
 std::vector<CaseResult> run_hedra(const FamilyRun& family, const Method& method, const BenchOptions& options) {
