@@ -4,10 +4,11 @@
 // the centre in the box's frame (|p_i| <= h_i), the depth of the cores is
 // the smallest h_i - |p_i|, along the axis of that face (ties: the first
 // axis, and + when p_i = 0); the radii (the sphere's radius and margin, the
-// box's margin) add to it. Exact in exact arithmetic. p is computed in long
-// double (a 64-bit significand on x86, double elsewhere), so that the answer
-// is nearly correctly rounded; the error bound holds for double arithmetic
-// (sphere_box_bound). Centres outside the core keep GJK's path: there
+// box's margin) add to it. Exact in exact arithmetic. p is computed with a
+// 64-bit significand where long double has one (x86's extended format), so
+// that the answer is nearly correctly rounded, and in double elsewhere (never
+// in a software-emulated quad long double: this is a per-query path); the
+// error bound holds for double arithmetic (sphere_box_bound). Centres outside the core keep GJK's path: there
 // penetration() equals distance() bit for bit.
 #pragma once
 
@@ -18,6 +19,7 @@
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/shapes.hpp>
 #include <limits>
+#include <type_traits>
 
 namespace hedra::collision::closed_form {
 
@@ -39,7 +41,8 @@ inline double sphere_box_bound(double l1, double core, double radii) {
 // is distance()'s bit for bit.
 inline bool sphere_box(const Sphere& s, const Pose& pose_s, const Box& b, const Pose& pose_b, bool sphere_first,
                        PenetrationResult& out) {
-  using Wide = long double;  // 64-bit significand on x86; at worst double, which the bound covers
+  // x86's extended precision where it is native; double (which the bound covers) elsewhere.
+  using Wide = std::conditional_t<std::numeric_limits<long double>::digits == 64, long double, double>;
   const Eigen::Matrix3d& R = pose_b.rotation;
   const Eigen::Vector3d& h = b.half_extents;
   Wide d[3], p[3];

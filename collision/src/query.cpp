@@ -3,7 +3,6 @@
 // Polyhedron support hints travel through the caller's GjkCache.
 #include <algorithm>
 #include <cmath>
-#include "closed_form.hpp"
 #include <hedra/collision/epa.hpp>
 #include <hedra/collision/gjk.hpp>
 #include <hedra/collision/minkowski.hpp>
@@ -16,6 +15,8 @@
 #include <optional>
 #include <type_traits>
 #include <utility>
+
+#include "closed_form.hpp"
 
 namespace hedra::collision {
 

@@ -79,7 +79,7 @@ struct WorkFace {
   Vec3 centroid;
   double area;
   Index edge;
-  Index begin;    // conflict list: pool[begin, begin + count), the newest last
+  Index begin;  // conflict list: pool[begin, begin + count), the newest last
   Index count;
   Mark mark;
 
@@ -123,13 +123,13 @@ Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - 
 
 struct QuickhullBuilder::Impl {
   // Working state, kept between builds to avoid reallocation.
-  std::vector<Vec3> pts;             // recentred input
-  std::vector<Index> vertex_of;      // per point: its output vertex (set by survey)
+  std::vector<Vec3> pts;                                  // recentred input
+  std::vector<Index> vertex_of;                           // per point: its output vertex (set by survey)
   std::vector<Conflict, UninitAllocator<Conflict>> pool;  // the faces' conflict ranges, and abandoned ones
-  std::size_t pool_live = 0;         // entries of the pool in live ranges
-  std::vector<Index> assign_face;    // note()d face per item
-  std::vector<Index> pending;        // per face: points about to join (place_noted), else 0
-  std::size_t bulk_need = 0;         // pool entries the noted points need, their faces' included
+  std::size_t pool_live = 0;                              // entries of the pool in live ranges
+  std::vector<Index> assign_face;                         // note()d face per item
+  std::vector<Index> pending;                             // per face: points about to join (place_noted), else 0
+  std::size_t bulk_need = 0;                              // pool entries the noted points need, their faces' included
   // (start, face) of every range placed since the last compact_pool, in
   // pool order (ranges are only ever placed at the pool's end); stale when
   // the face has moved on. compact_pool walks it instead of sorting.
@@ -141,9 +141,9 @@ struct QuickhullBuilder::Impl {
   std::vector<Index> new_faces;
   std::vector<Conflict> orphans;
   std::vector<Index> discarded;
-  std::vector<Index> ring;  // a face's vertices, for plane fitting
+  std::vector<Index> ring;            // a face's vertices, for plane fitting
   std::vector<std::uint8_t> flagged;  // merge_new_faces: per new face, concave seen from the smaller side
-  bool collapsed = false;   // a merge found the solid flattened (see absorb)
+  bool collapsed = false;             // a merge found the solid flattened (see absorb)
   struct ConePlane {
     Vec3 normal;
     double offset;
@@ -294,7 +294,7 @@ struct QuickhullBuilder::Impl {
     for (std::size_t i = 0; i < ranges.size(); ++i) {
       const auto [begin, f] = ranges[i];
       WorkFace& face = faces[f];
-      if (face.mark != Mark::alive || face.count == 0 || face.begin != begin) continue;  // stale
+      if (face.mark != Mark::alive || face.count == 0 || face.begin != begin) continue;       // stale
       std::copy(pool.begin() + begin, pool.begin() + begin + face.count, pool.begin() + at);  // at <= begin
       face.begin = at;
       ranges[kept++] = {at, f};
@@ -1132,7 +1132,8 @@ struct QuickhullBuilder::Impl {
       if (d > eye_distance) eye_distance = d, at = k;
     }
     const Index eye = list[at].point;
-    std::copy(pool.begin() + face.begin + at + 1, pool.begin() + face.begin + face.count, pool.begin() + face.begin + at);
+    std::copy(pool.begin() + face.begin + at + 1, pool.begin() + face.begin + face.count,
+              pool.begin() + face.begin + at);
     --face.count;
     --pool_live;
     return eye;

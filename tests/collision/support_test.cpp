@@ -375,10 +375,11 @@ TEST(ShapeValidation, RejectsNegativeAndNonFinite) {
 // same radius as bounding_radius(), valid or not.
 TEST(ShapeValidation, CheckWithRadiusAgreesWithValidateAndBoundingRadius) {
   const auto hull = make_hull({{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3}});
-  const std::vector<Shape> shapes = {Sphere{1.0, 0.5},          Sphere{-1.0, 0.0},       Box{{1.0, 2.0, 3.0}, 0.1},
-                                     Box{{1.0, -2.0, 1.0}, 0.0}, Capsule{1.0, 0.5, 0.0},  Capsule{1.0, std::nan(""), 0.0},
-                                     Cylinder{1.0, 2.0, 0.0},   Cylinder{1.0, 1.0, -0.1}, Cone{1.0, 2.0, 0.3},
-                                     Cone{1.0, INFINITY, 0.0},   Polyhedron{hull, 0.25},  Polyhedron{nullptr, 0.0}};
+  const std::vector<Shape> shapes = {
+      Sphere{1.0, 0.5},           Sphere{-1.0, 0.0},        Box{{1.0, 2.0, 3.0}, 0.1},
+      Box{{1.0, -2.0, 1.0}, 0.0}, Capsule{1.0, 0.5, 0.0},   Capsule{1.0, std::nan(""), 0.0},
+      Cylinder{1.0, 2.0, 0.0},    Cylinder{1.0, 1.0, -0.1}, Cone{1.0, 2.0, 0.3},
+      Cone{1.0, INFINITY, 0.0},   Polyhedron{hull, 0.25},   Polyhedron{nullptr, 0.0}};
   int valid = 0;
   for (const Shape& s : shapes) {
     double radius = -1.0;

@@ -244,7 +244,8 @@ int run(const std::string& file, const std::string& only, int repeat, bool time,
       hash = (hash ^ bits) * 1099511628211ull;
     }
     if (answers_out)
-      std::fprintf(answers_out, "%s %d %s %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
+      std::fprintf(answers_out,
+                   "%s %d %s %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
                    c.family.c_str(), s.pairs - 1, col::to_string(r.status), r.distance, r.error_bound, r.normal.x(),
                    r.normal.y(), r.normal.z(), r.point_a.x(), r.point_a.y(), r.point_a.z(), r.point_b.x(),
                    r.point_b.y(), r.point_b.z(), c.exact, c.exact_bound, c.size);
@@ -253,7 +254,8 @@ int run(const std::string& file, const std::string& only, int repeat, bool time,
       std::fprintf(stderr, "FAIL %s: got %.17g (%s), exact %.17g\n", c.family.c_str(), r.distance,
                    col::to_string(r.status), c.exact);
     }
-    if (time) s.ns.push_back(median_ns_per_call([&] { return col::penetration(c.a, c.pose_a, c.b, c.pose_b).distance; }));
+    if (time)
+      s.ns.push_back(median_ns_per_call([&] { return col::penetration(c.a, c.pose_a, c.b, c.pose_b).distance; }));
   }
   int failures = 0;
   for (const std::string& f : order) {
@@ -386,8 +388,9 @@ int main(int argc, char** argv) {
     }
     return run(argv[2], only, repeat, time, answers);
   }
-  std::fprintf(stderr,
-               "usage: penetration_profile dump FILE FAMILY... | run FILE [--family NAME] [--repeat N] [--time] [--answers OUT] "
-               "[--query penetration|distance|intersect]\n");
+  std::fprintf(
+      stderr,
+      "usage: penetration_profile dump FILE FAMILY... | run FILE [--family NAME] [--repeat N] [--time] [--answers OUT] "
+      "[--query penetration|distance|intersect]\n");
   return 2;
 }

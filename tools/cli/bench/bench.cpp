@@ -74,9 +74,9 @@ MethodAnswer hedra_answer_head(const Method& method, collision::Status status, b
 
 MethodAnswer hedra_method_answer(const Method& method, const collision::PenetrationResult& r, double time_ns) {
   // Caps and invalid states are failures; `stalled` is judged by its answer.
-  MethodAnswer m = hedra_answer_head(
-      method, r.status, r.status == collision::Status::ok || r.status == collision::Status::stalled, r.intersecting,
-      time_ns);
+  MethodAnswer m =
+      hedra_answer_head(method, r.status, r.status == collision::Status::ok || r.status == collision::Status::stalled,
+                        r.intersecting, time_ns);
   if (!std::isfinite(r.distance) || !r.normal.allFinite() || !r.point_a.allFinite() || !r.point_b.allFinite()) {
     m.ok = false;
     m.status = "non_finite";

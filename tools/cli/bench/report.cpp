@@ -249,7 +249,9 @@ std::string markdown_report(const BenchReport& report, const RunInfo& info) {
   md << "## Against the fastest accurate peer\n\n"
         "Per family: hedra's median time over that of the fastest peer accurate on the family (it poses every "
         "case, has at most 10 % failures"
-     << (report.query == QueryType::intersect ? "" : " and never answers with the verdict alone; a case it could not answer is a failure")
+     << (report.query == QueryType::intersect
+             ? ""
+             : " and never answers with the verdict alone; a case it could not answer is a failure")
      << ").\n\n";
   const bool against_ccd_gjk =
       report.query == QueryType::intersect &&

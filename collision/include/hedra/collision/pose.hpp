@@ -42,9 +42,9 @@ struct Pose {
   // infinite translation fails its comparison.
   bool valid() const {
     const double* r = rotation.data();
-    const double rotation_rounding =
-        (((r[0] - r[0]) + (r[1] - r[1])) + ((r[2] - r[2]) + (r[3] - r[3]))) +
-        (((r[4] - r[4]) + (r[5] - r[5])) + ((r[6] - r[6]) + (r[7] - r[7]))) + (r[8] - r[8]);
+    const double rotation_rounding = (((r[0] - r[0]) + (r[1] - r[1])) + ((r[2] - r[2]) + (r[3] - r[3]))) +
+                                     (((r[4] - r[4]) + (r[5] - r[5])) + ((r[6] - r[6]) + (r[7] - r[7]))) +
+                                     (r[8] - r[8]);
     return rotation_rounding == 0.0 && std::abs(translation.x()) <= max_coordinate &&
            std::abs(translation.y()) <= max_coordinate && std::abs(translation.z()) <= max_coordinate;
   }
