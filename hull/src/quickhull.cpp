@@ -876,10 +876,13 @@ struct QuickhullBuilder::Impl {
     bool prepared = false;  // on the first point that is not a vertex (a sphere's are all vertices)
     begin_notes(n);
     std::fill(assign_face.begin(), assign_face.end(), kInvalidIndex);
+    // The search's cell bounds (faces x cells pairs, at most two a point)
+    // may call a point within rounding of the surface inside: here only
+    // points more than 6 eps out count, so the answer is the same.
     for (Index i = 0; i < n; ++i) {
       if (point_stamp[i] == stamp) continue;  // a vertex
-      if (!prepared &&
-          !outside_search.prepare(WorkFaces{this}, c, detail::rounding_map(hull_vertices, c, faces[largest].normal)))
+      if (!prepared && !outside_search.prepare(WorkFaces{this}, c,
+                                               detail::rounding_map(hull_vertices, c, faces[largest].normal), 2 * n))
         return 0;
       prepared = true;
       const auto [face, d] = outside_search.farthest_face_in_front(pts[i]);
