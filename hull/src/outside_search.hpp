@@ -63,33 +63,34 @@ class OutsideSearch {
   // above; any invertible matrix will do: it only shapes the cells and the
   // ellipsoid). Returns false when c is not strictly behind every live face.
   // The adapter is copied (it is a view: a pointer to the faces).
-  // cell_bound_pairs > 0 lets each cell of the cube map carry a certified
-  // inner radius (see build_cell_radii) when faces x cells is at most that
-  // many; for callers that ignore distances below a few eps only, since a
-  // point within rounding of the surface may then be reported inside.
-  bool prepare(const A& a, const Eigen::Vector3d& c, const Eigen::Matrix3d& round, std::size_t cell_bound_pairs = 0) {
+  // `queries` (how many points will be asked about) sizes the optional
+  // work: the faces' adjacency is cached when there are at least 4 points a
+  // face, and with `cell_bounds` each cell of the cube map carries a
+  // certified inner radius (see build_cell_radii) when faces x cells is at
+  // most 2 queries; only for callers that ignore distances below a few eps,
+  // since a point within rounding of the surface may then be reported inside.
+  bool prepare(const A& a, const Eigen::Vector3d& c, const Eigen::Matrix3d& round, std::size_t queries = 0,
+               bool cell_bounds = false) {
     a_ = a;
     c_ = c;
     to_round_ = round;
     from_round_ = round.inverse();
     if (!from_round_.allFinite()) to_round_ = from_round_ = Eigen::Matrix3d::Identity();
     const std::size_t nf = a.face_count();
-    face_.resize(nf);
-    adjacent_span_.assign(nf, {0, kInvalidIndex});
+    height_.resize(nf);
+    cache_adjacency_ = 4 * nf <= queries;
+    if (cache_adjacency_) adjacent_span_.assign(nf, {0, kInvalidIndex});
     adjacent_.clear();
     inner_ = ball_ = std::numeric_limits<double>::infinity();
     Index any = kInvalidIndex;
     for (Index f = 0; f < nf; ++f) {
       if (!a.live(f)) continue;
-      SearchFace& face = face_[f];
-      face.normal = a.normal(f);
-      face.offset = a.offset(f);
-      face.height = face.offset - face.normal.dot(c);
-      if (!(face.height > 0)) return false;
+      const double height = height_[f] = a.offset(f) - a.normal(f).dot(c);
+      if (!(height > 0)) return false;
       // The ellipsoid |to_round_ x| < r lies behind this face when
       // r |to_round_^-T n| < h.
-      inner_ = std::min(inner_, face.height / (from_round_.transpose() * face.normal).norm());
-      ball_ = std::min(ball_, face.height);
+      inner_ = std::min(inner_, height / (from_round_.transpose() * a.normal(f)).norm());
+      ball_ = std::min(ball_, height);
       any = f;
     }
     if (any == kInvalidIndex) return false;
@@ -102,7 +103,7 @@ class OutsideSearch {
     any_ = any;
     cell_face_.clear();  // built on the first point outside the inner ellipsoid
     cell_radius_.clear();
-    cell_bound_pairs_ = cell_bound_pairs;
+    cell_bound_pairs_ = cell_bounds ? 2 * queries : 0;
     stamp_.assign(nf, 0);
     round_ = 0;
     return true;
@@ -151,9 +152,8 @@ class OutsideSearch {
       // within that reach (generously, 1024 ulps of the coordinates), the
       // faces around the chosen face's corners decide. Points deeper inside
       // pay nothing more.
-      const double reach =
-          1024 * std::numeric_limits<double>::epsilon() *
-          (p.cwiseAbs().sum() + c_.cwiseAbs().sum() + std::abs(face_[exit].offset) + face_[exit].height);
+      const double reach = 1024 * std::numeric_limits<double>::epsilon() *
+                           (p.cwiseAbs().sum() + c_.cwiseAbs().sum() + std::abs(a_.offset(exit)) + height_[exit]);
       if (!(best_d > 0) && behind <= reach) a_.for_each_corner_face(exit, consider);
       if (!(best_d > 0)) return {kInvalidIndex, 0.0};
     }
@@ -161,7 +161,7 @@ class OutsideSearch {
     if (++round_ == 0) std::fill(stamp_.begin(), stamp_.end(), 0), round_ = 1;
     stack_.assign(1, face);
     stamp_[face] = round_;
-    for (std::size_t guard = 0; !stack_.empty() && guard <= face_.size(); ++guard) {
+    for (std::size_t guard = 0; !stack_.empty() && guard <= height_.size(); ++guard) {
       const Index f = stack_.back();
       stack_.pop_back();
       for_each_neighbor(f, [&](Index nb) {
@@ -180,7 +180,7 @@ class OutsideSearch {
  private:
   void build_cube_map() {
     std::size_t live = 0;
-    for (Index f = 0; f < face_.size(); ++f) live += a_.live(f);
+    for (Index f = 0; f < height_.size(); ++f) live += a_.live(f);
     // About one face a cell: each climb then takes a step or two, and the
     // map costs a fraction of the faces' count to build.
     k_ = static_cast<int>(std::clamp(std::sqrt(static_cast<double>(live) / 6.0), 1.0, 64.0));
@@ -222,12 +222,12 @@ class OutsideSearch {
       double rho;
     };
     std::vector<RoundFace> round_faces;
-    for (Index f = 0; f < face_.size(); ++f) {
+    for (Index f = 0; f < height_.size(); ++f) {
       if (!a_.live(f)) continue;
-      const Eigen::Vector3d n = from_round_.transpose() * face_[f].normal;
+      const Eigen::Vector3d n = from_round_.transpose() * a_.normal(f);
       const double length = n.norm();
       if (!(length > 0) || !std::isfinite(length)) return;
-      round_faces.push_back({n / length, face_[f].height / length});
+      round_faces.push_back({n / length, height_[f] / length});
     }
     cell_radius_.assign(cell_face_.size(), 0.0);
     for (int side = 0; side < 6; ++side)
@@ -259,12 +259,16 @@ class OutsideSearch {
         }
   }
 
-  double distance(Index f, const Eigen::Vector3d& p) const { return face_[f].normal.dot(p) - face_[f].offset; }
+  double distance(Index f, const Eigen::Vector3d& p) const { return a_.normal(f).dot(p) - a_.offset(f); }
 
-  // The faces across f's edges, in the adapter's order (gathered on the
-  // first visit: a climb over a large hull visits few of its faces).
+  // The faces across f's edges, in the adapter's order (when cached,
+  // gathered on the first visit: a climb visits few of a hull's faces).
   template <class Fn>
   void for_each_neighbor(Index f, Fn&& fn) const {
+    if (!cache_adjacency_) {
+      a_.for_each_neighbor(f, fn);
+      return;
+    }
     std::pair<Index, Index>& span = adjacent_span_[f];
     if (span.second == kInvalidIndex) {  // first visit: gather them
       span.first = static_cast<Index>(adjacent_.size());
@@ -277,9 +281,9 @@ class OutsideSearch {
   }
 
   Index climb(Index face, const Eigen::Vector3d& dir) const {
-    auto g = [&](Index f) { return face_[f].normal.dot(dir) / face_[f].height; };
+    auto g = [&](Index f) { return a_.normal(f).dot(dir) / height_[f]; };
     double gf = g(face);
-    for (std::size_t step = 0; step <= face_.size(); ++step) {
+    for (std::size_t step = 0; step <= height_.size(); ++step) {
       Index best = face;
       double best_g = gf;
       for_each_neighbor(face, [&](Index nb) {
@@ -307,16 +311,12 @@ class OutsideSearch {
   A a_{};
   Eigen::Vector3d c_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d to_round_ = Eigen::Matrix3d::Identity(), from_round_ = Eigen::Matrix3d::Identity();
-  // A live face's plane and its height above c, packed for the climbs and
-  // walks (dead faces' entries are unused), and the faces across its edges:
+  // A live face's height above c (dead faces' entries unused), and when
+  // cached the faces across its edges:
   // adjacent_span_[f] = (start in adjacent_, count), count kInvalidIndex
   // until the face is first visited.
-  struct SearchFace {
-    SearchFace() {}  // left unset: prepare writes every live face's
-    Eigen::Vector3d normal;
-    double offset, height;
-  };
-  std::vector<SearchFace> face_;
+  std::vector<double> height_;
+  bool cache_adjacency_ = false;
   mutable std::vector<std::pair<Index, Index>> adjacent_span_;
   mutable std::vector<Index> adjacent_;
   double inner_ = 0, inner_squared_ = 0;  // the ellipsoid's radius in round coordinates

@@ -925,13 +925,13 @@ struct QuickhullBuilder::Impl {
     bool prepared = false;  // on the first point that is not a vertex (a sphere's are all vertices)
     begin_notes(n);
     std::fill(assign_face.begin(), assign_face.end(), kInvalidIndex);
-    // The search's cell bounds (faces x cells pairs, at most two a point)
-    // may call a point within rounding of the surface inside: here only
-    // points more than 6 eps out count, so the answer is the same.
+    // The search's cell bounds may call a point within rounding of the
+    // surface inside: here only points more than 6 eps out count, so the
+    // answer is the same.
     for (Index i = 0; i < n; ++i) {
       if (point_stamp[i] == stamp) continue;  // a vertex
       if (!prepared && !outside_search.prepare(WorkFaces{this}, c,
-                                               detail::rounding_map(hull_vertices, c, faces[largest].normal), 2 * n))
+                                               detail::rounding_map(hull_vertices, c, faces[largest].normal), n, true))
         return 0;
       prepared = true;
       const auto [face, d] = outside_search.farthest_face_in_front(pts[i]);
@@ -1586,7 +1586,8 @@ double max_outside_distance(const HalfEdgeMesh& mesh, const std::vector<Eigen::V
     if (newell.norm() > largest_area) largest_area = newell.norm(), largest = f;
   }
   detail::OutsideSearch<MeshFaces> search;
-  if (!search.prepare(MeshFaces{&mesh}, c, detail::rounding_map(positions, c, mesh.plane(largest).normal))) {
+  if (!search.prepare(MeshFaces{&mesh}, c, detail::rounding_map(positions, c, mesh.plane(largest).normal),
+                      points.size())) {
     // Not a proper solid around its vertex average: check every plane.
     for (const auto& p : points)
       for (Index f = 0; f < mesh.face_count(); ++f) worst = std::max(worst, mesh.plane(f).signed_distance(p));
