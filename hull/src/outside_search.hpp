@@ -10,6 +10,9 @@
 // hull's vertex spread is round: a slab 1e-9 thick is then no harder than a
 // ball (a sphere around c would be 1e-9 wide, and cells of raw directions
 // would start every climb on the slab's top or bottom, far from the rim).
+// Optionally each cell also carries a certified inner radius (a lower bound
+// of the surface's distance along its directions), for callers that ignore
+// distances of a few eps: a slab's cells are inside far beyond the ellipsoid.
 //
 // Adapter requirements (A):
 //   std::size_t face_count() const;   bool live(Index f) const;

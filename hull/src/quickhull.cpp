@@ -10,7 +10,8 @@
 //     order instead of chasing per-point links. A face's range moves to the
 //     pool's end when it grows; the abandoned ranges are reclaimed by
 //     moving the live ones down (compact_pool) when the pool would
-//     otherwise have to grow with an eighth of it abandoned;
+//     otherwise have to grow with an eighth of it abandoned; an iteration's
+//     orphans are read from the removed faces' abandoned ranges in place;
 //   * removed faces are marked deleted and stay in place; when the face
 //     array has doubled, the live faces and edges move down in order
 //     (compact_working), and the end compacts the rest in the same walk
@@ -709,6 +710,8 @@ struct QuickhullBuilder::Impl {
       return;
     }
     reserve_for_notes();  // grows the pool if it must, without compacting
+    // Placing then writes past the pool's end only, and never reallocates.
+    HEDRA_ASSERT(pool.size() + bulk_need <= pool.capacity());
     for_each_orphan([&](std::size_t i, const Conflict& c) {
       const Index f = assign_face[i];
       if (f != kInvalidIndex) place_one(f, c);
