@@ -304,20 +304,29 @@ void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Repor
   const auto add_waiting = [&] {
     for (int i = 0; i < std::min(turns, 3); ++i) turning += std::atan2(sines[i], cosines[i]);
   };
+  // Corner i's a - c and edge b - a are corner i - 1's b - c and next edge:
+  // carried over, not recomputed (the same differences of the same points).
+  Eigen::Vector3d a_c = Eigen::Vector3d::Zero(), d = Eigen::Vector3d::Zero();
+  double dl = 0;
+  if (n > 0) {
+    a_c = m.position(ring[0]) - c;
+    d = m.position(ring[1 % n]) - m.position(ring[0]);
+    dl = d.norm();
+  }
   for (std::size_t i = 0; i < n; ++i) {
     ++corners;
-    const Index va = ring[i], vb = ring[i + 1 < n ? i + 1 : 0], vc = ring[i + 2 < n ? i + 2 : i + 2 - n];
+    const Index va = ring[i], vb = ring[(i + 1) % n], vc = ring[(i + 2) % n];
     const Eigen::Vector3d& a = m.position(va);
     const Eigen::Vector3d& b = m.position(vb);
-    newell += (a - c).cross(b - c);
+    const Eigen::Vector3d b_c = b - c;
+    newell += a_c.cross(b_c);
     if (std::abs(pl.signed_distance(a)) > tol)
       err(name() + ": vertex " + std::to_string(va) + " is " + std::to_string(pl.signed_distance(a)) +
           " off the face plane");
     // Local convexity: the vertex after the next one lies inside the side
     // plane of e (the plane through e containing the face normal).
-    const Eigen::Vector3d d = b - a;
     const Eigen::Vector3d dn = m.position(vc) - b;
-    const double dl = d.norm(), dnl = dn.norm();
+    const double dnl = dn.norm();
     if (dl > 0 && dnl > 0) {
       const Eigen::Vector3d side = d.cross(pl.normal) / dl;  // outward in the face plane
       if (side.dot(dn) > tol)
@@ -333,6 +342,7 @@ void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Repor
       }
       ++turns;
     }
+    a_c = b_c, d = dn, dl = dnl;
   }
   if (newell.dot(pl.normal) <= 0) err(name() + " is wound against its plane normal");
   // A convex polygon turns exactly once; a star-shaped one more often. The
