@@ -80,7 +80,7 @@ class OutsideSearch {
     from_round_ = round.inverse();
     if (!from_round_.allFinite()) to_round_ = from_round_ = Eigen::Matrix3d::Identity();
     const std::size_t nf = a.face_count();
-    height_.resize(nf);
+    height_.assign(nf, 0.0);
     cache_adjacency_ = 4 * nf <= queries;
     if (cache_adjacency_) adjacent_span_.assign(nf, {0, kInvalidIndex});
     adjacent_.clear();
