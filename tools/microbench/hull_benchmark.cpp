@@ -32,7 +32,9 @@
 // application building many hulls would. Run with repetitions and read
 // medians: tools/microbench/hull_table.py turns --benchmark_format=json output into a
 // table. `hull_benchmark --memory` prints only the memory per point, for these
-// sets and a sphere of 1e6 points (too slow to time here).
+// sets and a sphere of 1e6 points (too slow to time here); `--digest` a hash
+// of each build's whole output (these sets and 520 small clouds), to compare
+// two builds bit for bit; `--once SET` one build of SET, for callgrind.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>
