@@ -276,16 +276,26 @@ void check_vertex_rings(const HalfEdgeMesh& m, const Reporter& err) {
 
 // Face f is planar within tol, wound along its normal, convex at each vertex
 // (turning once), and the vertices next to each of its edges in the
-// neighbouring faces are behind its plane.
-void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Reporter& err) {
+// neighbouring faces are behind its plane. Needs consistent links (the
+// vertex after edge i's is its destination); `ring` is scratch space.
+void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Reporter& err, std::vector<Index>& ring) {
   const Plane& pl = m.faces[f].plane;
   const auto name = [f] { return "face " + std::to_string(f); };
   if (!pl.normal.allFinite() || std::abs(pl.normal.norm() - 1.0) > 1e3 * std::numeric_limits<double>::epsilon()) {
     err(name() + " has a plane normal that is not unit length");
     return;
   }
+  // The vertices in order, gathered once; the centroid as face_centroid()
+  // computes it.
+  ring.clear();
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (Index v : m.face_vertices(f)) {
+    ring.push_back(v);
+    c += m.position(v);
+  }
+  const std::size_t n = ring.size();
+  if (n > 0) c = Eigen::Vector3d(c / static_cast<double>(n));
   // Winding agrees with the normal: Newell's vector points along it.
-  const Eigen::Vector3d c = m.face_centroid(f);
   Eigen::Vector3d newell = Eigen::Vector3d::Zero();
   // The turning angle adds up atan2(sine, cosine) of each corner in order;
   // the first three wait, since a triangle may not need them (below).
@@ -294,22 +304,33 @@ void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Repor
   const auto add_waiting = [&] {
     for (int i = 0; i < std::min(turns, 3); ++i) turning += std::atan2(sines[i], cosines[i]);
   };
-  for (Index e : m.face_edges(f)) {
+  // Corner i's a - c and edge b - a are corner i - 1's b - c and next edge:
+  // carried over, not recomputed (the same differences of the same points).
+  Eigen::Vector3d a_c = Eigen::Vector3d::Zero(), d = Eigen::Vector3d::Zero();
+  double dl = 0;
+  if (n > 0) {
+    a_c = m.position(ring[0]) - c;
+    d = m.position(ring[1 % n]) - m.position(ring[0]);
+    dl = d.norm();
+  }
+  for (std::size_t i = 0; i < n; ++i) {
     ++corners;
-    const Eigen::Vector3d a = m.position(m.origin(e)), b = m.position(m.destination(e));
-    newell += (a - c).cross(b - c);
+    const Index va = ring[i], vb = ring[(i + 1) % n], vc = ring[(i + 2) % n];
+    const Eigen::Vector3d& a = m.position(va);
+    const Eigen::Vector3d& b = m.position(vb);
+    const Eigen::Vector3d b_c = b - c;
+    newell += a_c.cross(b_c);
     if (std::abs(pl.signed_distance(a)) > tol)
-      err(name() + ": vertex " + std::to_string(m.origin(e)) + " is " + std::to_string(pl.signed_distance(a)) +
+      err(name() + ": vertex " + std::to_string(va) + " is " + std::to_string(pl.signed_distance(a)) +
           " off the face plane");
     // Local convexity: the vertex after the next one lies inside the side
     // plane of e (the plane through e containing the face normal).
-    const Eigen::Vector3d d = b - a;
-    const Eigen::Vector3d dn = m.position(m.destination(m.next(e))) - b;
-    const double dl = d.norm(), dnl = dn.norm();
+    const Eigen::Vector3d dn = m.position(vc) - b;
+    const double dnl = dn.norm();
     if (dl > 0 && dnl > 0) {
       const Eigen::Vector3d side = d.cross(pl.normal) / dl;  // outward in the face plane
       if (side.dot(dn) > tol)
-        err(name() + " is not convex at vertex " + std::to_string(m.destination(e)) + " (turns outward by " +
+        err(name() + " is not convex at vertex " + std::to_string(vb) + " (turns outward by " +
             std::to_string(side.dot(dn)) + ")");
       const double turn_sine = d.cross(dn).dot(pl.normal);
       left_turns += turn_sine > 0;
@@ -321,6 +342,7 @@ void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Repor
       }
       ++turns;
     }
+    a_c = b_c, d = dn, dl = dnl;
   }
   if (newell.dot(pl.normal) <= 0) err(name() + " is wound against its plane normal");
   // A convex polygon turns exactly once; a star-shaped one more often. The
@@ -336,11 +358,14 @@ void check_face_geometry(const HalfEdgeMesh& m, Index f, double tol, const Repor
     if (std::abs(turning - 2 * M_PI) > M_PI) err(name() + " winds " + std::to_string(turning / (2 * M_PI)) + " times");
   }
   // Convex edges: the vertices next to each edge in the neighbouring face
-  // are behind this face's plane.
+  // are behind this face's plane (one vertex, checked once, when that face
+  // is a triangle).
   for (Index e : m.face_edges(f)) {
     const Index t = m.twin(e);
-    for (Index w : {m.destination(m.next(t)), m.origin(m.prev(t))}) {
-      const double s = pl.signed_distance(m.position(w));
+    const Index w0 = m.destination(m.next(t)), w1 = m.origin(m.prev(t));
+    const double s0 = pl.signed_distance(m.position(w0));
+    const double s1 = w1 == w0 ? s0 : pl.signed_distance(m.position(w1));
+    for (const auto& [w, s] : {std::pair(w0, s0), std::pair(w1, s1)}) {
       if (s > tol)
         err("edge " + std::to_string(m.origin(e)) + "-" + std::to_string(m.destination(e)) + " is concave: vertex " +
             std::to_string(w) + " is " + std::to_string(s) + " in front of " + name());
@@ -410,7 +435,8 @@ ValidationReport HalfEdgeMesh::validate(double tol, bool exhaustive) const {
   if (!r.ok()) return r;
   const long long euler = static_cast<long long>(V) - static_cast<long long>(H / 2) + static_cast<long long>(F);
   if (euler != 2) err("Euler characteristic V - E + F = " + std::to_string(euler) + ", expected 2");
-  for (Index f = 0; f < F; ++f) check_face_geometry(*this, f, tol, err);
+  std::vector<Index> ring;
+  for (Index f = 0; f < F; ++f) check_face_geometry(*this, f, tol, err, ring);
   if (!exhaustive || !r.ok()) return r;
   check_containment(*this, tol, err);
   return r;
@@ -421,7 +447,8 @@ ValidationReport detail::validate_rings_and_faces(const HalfEdgeMesh& mesh, doub
   const Reporter err{r};
   check_vertex_rings(mesh, err);
   if (!r.ok()) return r;
-  for (Index f = 0; f < mesh.faces.size(); ++f) check_face_geometry(mesh, f, tol, err);
+  std::vector<Index> ring;
+  for (Index f = 0; f < mesh.faces.size(); ++f) check_face_geometry(mesh, f, tol, err, ring);
   return r;
 }
 

@@ -10,6 +10,9 @@
 // hull's vertex spread is round: a slab 1e-9 thick is then no harder than a
 // ball (a sphere around c would be 1e-9 wide, and cells of raw directions
 // would start every climb on the slab's top or bottom, far from the rim).
+// Optionally each cell also carries a certified inner radius (a lower bound
+// of the surface's distance along its directions), for callers that ignore
+// distances of a few eps: a slab's cells are inside far beyond the ellipsoid.
 //
 // Adapter requirements (A):
 //   std::size_t face_count() const;   bool live(Index f) const;
@@ -63,7 +66,14 @@ class OutsideSearch {
   // above; any invertible matrix will do: it only shapes the cells and the
   // ellipsoid). Returns false when c is not strictly behind every live face.
   // The adapter is copied (it is a view: a pointer to the faces).
-  bool prepare(const A& a, const Eigen::Vector3d& c, const Eigen::Matrix3d& round) {
+  // `queries` (how many points will be asked about) sizes the optional
+  // work: the faces' adjacency is cached when there are at least 4 points a
+  // face, and with `cell_bounds` each cell of the cube map carries a
+  // certified inner radius (see build_cell_radii) when faces x cells is at
+  // most 2 queries; only for callers that ignore distances below a few eps,
+  // since a point within rounding of the surface may then be reported inside.
+  bool prepare(const A& a, const Eigen::Vector3d& c, const Eigen::Matrix3d& round, std::size_t queries = 0,
+               bool cell_bounds = false) {
     a_ = a;
     c_ = c;
     to_round_ = round;
@@ -71,16 +81,19 @@ class OutsideSearch {
     if (!from_round_.allFinite()) to_round_ = from_round_ = Eigen::Matrix3d::Identity();
     const std::size_t nf = a.face_count();
     height_.assign(nf, 0.0);
+    cache_adjacency_ = 4 * nf <= queries;
+    if (cache_adjacency_) adjacent_span_.assign(nf, {0, kInvalidIndex});
+    adjacent_.clear();
     inner_ = ball_ = std::numeric_limits<double>::infinity();
     Index any = kInvalidIndex;
     for (Index f = 0; f < nf; ++f) {
       if (!a.live(f)) continue;
-      height_[f] = a.offset(f) - a.normal(f).dot(c);
-      if (!(height_[f] > 0)) return false;
+      const double height = height_[f] = a.offset(f) - a.normal(f).dot(c);
+      if (!(height > 0)) return false;
       // The ellipsoid |to_round_ x| < r lies behind this face when
       // r |to_round_^-T n| < h.
-      inner_ = std::min(inner_, height_[f] / (from_round_.transpose() * a.normal(f)).norm());
-      ball_ = std::min(ball_, height_[f]);
+      inner_ = std::min(inner_, height / (from_round_.transpose() * a.normal(f)).norm());
+      ball_ = std::min(ball_, height);
       any = f;
     }
     if (any == kInvalidIndex) return false;
@@ -92,6 +105,8 @@ class OutsideSearch {
     ball_squared_ = ball_ * ball_;
     any_ = any;
     cell_face_.clear();  // built on the first point outside the inner ellipsoid
+    cell_radius_.clear();
+    cell_bound_pairs_ = cell_bounds ? 2 * queries : 0;
     stamp_.assign(nf, 0);
     round_ = 0;
     return true;
@@ -105,7 +120,16 @@ class OutsideSearch {
     const Eigen::Vector3d round_rel = to_round_ * rel;
     if (round_rel.squaredNorm() < inner_squared_) return {kInvalidIndex, 0.0};
     if (cell_face_.empty()) build_cube_map();
-    Index face = climb(cell_face_[cell_of(round_rel)], rel);
+    const std::size_t cell = cell_of(round_rel);
+    if (!cell_radius_.empty()) {
+      // round_rel is the round image of a point within margin_per_rel_
+      // |rel|_1 (round units) of p's: p is inside when that ball is inside
+      // the cell's radius (its direction within the slack the cells carry).
+      const double rel1 = rel.cwiseAbs().sum();
+      const double t = cell_radius_[cell] - margin_per_rel_ * rel1;
+      if (rel1 <= rel_cap_ && t > 0 && round_rel.squaredNorm() < t * t) return {kInvalidIndex, 0.0};
+    }
+    Index face = climb(cell_face_[cell], rel);
     double best_d = distance(face, p);
     if (!(best_d > 0)) {
       // The exit face comes from a ratio whose denominator h_f is tiny for
@@ -121,7 +145,7 @@ class OutsideSearch {
         const double d = distance(nb, p);
         if (d > best_d) best_d = d, face = nb;
       };
-      a_.for_each_neighbor(exit, consider);
+      for_each_neighbor(exit, consider);
       // Where the ray passes within rounding of a vertex, the faces around
       // it tie, and the one chosen may share only that vertex with the face
       // p is outside of (e.g. near-duplicates on a ray 1.5e6
@@ -143,7 +167,7 @@ class OutsideSearch {
     for (std::size_t guard = 0; !stack_.empty() && guard <= height_.size(); ++guard) {
       const Index f = stack_.back();
       stack_.pop_back();
-      a_.for_each_neighbor(f, [&](Index nb) {
+      for_each_neighbor(f, [&](Index nb) {
         if (stamp_[nb] == round_) return;
         stamp_[nb] = round_;
         const double d = distance(nb, p);
@@ -176,9 +200,88 @@ class OutsideSearch {
           face = climb(face, from_round_ * d);
           cell_face_[static_cast<std::size_t>((side * k_ + iu) * k_ + iv)] = face;
         }
+    if (cell_bound_pairs_ > 0 && live * cell_face_.size() <= cell_bound_pairs_) build_cell_radii();
+  }
+
+  // A lower bound, per cell, of how far the hull's surface is from c along
+  // any direction of the cell (round coordinates): a cell lies in the cap of
+  // half-angle alpha around its centre direction a, and along a direction u
+  // of the cap the plane of face f is at rho_f / (n_f . u) (rho_f its
+  // distance from c, n_f its unit normal, both round), at least
+  // rho_f / cos(max(0, theta_f - alpha)) with theta_f the angle of n_f from
+  // a. Points inside that radius need no climb: a thin hull's cells (a slab
+  // is a cube in round coordinates) are inside far beyond the inscribed
+  // ellipsoid. The cap is widened by kSlack, which covers the rounding of a
+  // point's round image (below rel_cap_), and the radius shrunk by 1e-5 for
+  // the rounding of the round map and its inverse (relative 1e-7 on a slab
+  // 1e-9 thick: the round normal of a face along the thin axis cancels).
+  void build_cell_radii() {
+    constexpr double kSlack = 1e-3;
+    margin_per_rel_ = 32 * std::numeric_limits<double>::epsilon() * to_round_.cwiseAbs().rowwise().sum().maxCoeff();
+    rel_cap_ = kSlack * inner_ / margin_per_rel_;
+    if (!(rel_cap_ > 0) || !std::isfinite(margin_per_rel_)) return;
+    struct RoundFace {
+      Eigen::Vector3d unit;
+      double rho;
+    };
+    std::vector<RoundFace> round_faces;
+    for (Index f = 0; f < height_.size(); ++f) {
+      if (!a_.live(f)) continue;
+      const Eigen::Vector3d n = from_round_.transpose() * a_.normal(f);
+      const double length = n.norm();
+      if (!(length > 0) || !std::isfinite(length)) return;
+      round_faces.push_back({n / length, height_[f] / length});
+    }
+    cell_radius_.assign(cell_face_.size(), 0.0);
+    for (int side = 0; side < 6; ++side)
+      for (int iu = 0; iu < k_; ++iu)
+        for (int iv = 0; iv < k_; ++iv) {
+          const int axis = side / 2;
+          auto direction = [&](double u, double v) {
+            Eigen::Vector3d d;
+            d[axis] = side % 2 ? 1.0 : -1.0;
+            d[(axis + 1) % 3] = u / k_ * 2 - 1;
+            d[(axis + 2) % 3] = v / k_ * 2 - 1;
+            return Eigen::Vector3d(d.normalized());
+          };
+          const Eigen::Vector3d centre = direction(iu + 0.5, iv + 0.5);
+          double cos_half = 1;
+          for (int corner = 0; corner < 4; ++corner)
+            cos_half = std::min(cos_half, centre.dot(direction(iu + corner % 2, iv + corner / 2)));
+          const double alpha = std::acos(std::clamp(cos_half, -1.0, 1.0)) + 1.01 * kSlack + 1e-9;
+          if (!(alpha < 1.5)) continue;  // radius 0: no shortcut
+          const double ca = std::cos(alpha), sa = std::sin(alpha);
+          double radius = std::numeric_limits<double>::infinity();
+          for (const RoundFace& rf : round_faces) {
+            const double ct = rf.unit.dot(centre);
+            const double reach = ct >= ca ? 1.0 : ct * ca + std::sqrt(std::max(0.0, 1 - ct * ct)) * sa;
+            if (reach > 0) radius = std::min(radius, rf.rho / reach);
+          }
+          if (std::isfinite(radius))
+            cell_radius_[static_cast<std::size_t>((side * k_ + iu) * k_ + iv)] = radius * (1 - 1e-5);
+        }
   }
 
   double distance(Index f, const Eigen::Vector3d& p) const { return a_.normal(f).dot(p) - a_.offset(f); }
+
+  // The faces across f's edges, in the adapter's order (when cached,
+  // gathered on the first visit: a climb visits few of a hull's faces).
+  template <class Fn>
+  void for_each_neighbor(Index f, Fn&& fn) const {
+    if (!cache_adjacency_) {
+      a_.for_each_neighbor(f, fn);
+      return;
+    }
+    std::pair<Index, Index>& span = adjacent_span_[f];
+    if (span.second == kInvalidIndex) {  // first visit: gather them
+      span.first = static_cast<Index>(adjacent_.size());
+      a_.for_each_neighbor(f, [&](Index nb) { adjacent_.push_back(nb); });
+      span.second = static_cast<Index>(adjacent_.size()) - span.first;
+    }
+    const Index* it = adjacent_.data() + span.first;
+    const Index* end = it + span.second;
+    for (; it != end; ++it) fn(*it);
+  }
 
   Index climb(Index face, const Eigen::Vector3d& dir) const {
     auto g = [&](Index f) { return a_.normal(f).dot(dir) / height_[f]; };
@@ -186,7 +289,7 @@ class OutsideSearch {
     for (std::size_t step = 0; step <= height_.size(); ++step) {
       Index best = face;
       double best_g = gf;
-      a_.for_each_neighbor(face, [&](Index nb) {
+      for_each_neighbor(face, [&](Index nb) {
         const double gn = g(nb);
         if (gn > best_g) best_g = gn, best = nb;
       });
@@ -211,12 +314,22 @@ class OutsideSearch {
   A a_{};
   Eigen::Vector3d c_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d to_round_ = Eigen::Matrix3d::Identity(), from_round_ = Eigen::Matrix3d::Identity();
+  // A live face's height above c (dead faces' entries unused), and when
+  // cached the faces across its edges:
+  // adjacent_span_[f] = (start in adjacent_, count), count kInvalidIndex
+  // until the face is first visited.
   std::vector<double> height_;
+  bool cache_adjacency_ = false;
+  mutable std::vector<std::pair<Index, Index>> adjacent_span_;
+  mutable std::vector<Index> adjacent_;
   double inner_ = 0, inner_squared_ = 0;  // the ellipsoid's radius in round coordinates
   double ball_ = 0, ball_squared_ = 0;    // the inscribed ball's around c
   int k_ = 1;
   Index any_ = kInvalidIndex;
   std::vector<Index> cell_face_;
+  std::vector<double> cell_radius_;  // per cell (build_cell_radii), or empty
+  std::size_t cell_bound_pairs_ = 0;
+  double margin_per_rel_ = 0, rel_cap_ = 0;
   std::vector<Index> stamp_, stack_;
   Index round_ = 0;
 };

@@ -10,7 +10,8 @@
 //     order instead of chasing per-point links. A face's range moves to the
 //     pool's end when it grows; the abandoned ranges are reclaimed by
 //     moving the live ones down (compact_pool) when the pool would
-//     otherwise have to grow with an eighth of it abandoned;
+//     otherwise have to grow with an eighth of it abandoned; an iteration's
+//     orphans are read from the removed faces' abandoned ranges in place;
 //   * removed faces are marked deleted and stay in place; when the face
 //     array has doubled, the live faces and edges move down in order
 //     (compact_working), and the end compacts the rest in the same walk
@@ -139,7 +140,18 @@ struct QuickhullBuilder::Impl {
   std::vector<Index> horizon;
   std::vector<Index> visible;
   std::vector<Index> new_faces;
+  // An iteration's orphans, in the order they are handed out: the visible
+  // faces' points, read in place from their abandoned pool ranges (each
+  // span newest first), then `orphans`, copies of the points merges left
+  // without a face. The abandoned ranges stay intact until compact_pool,
+  // which place_orphans runs only after copying them out.
+  struct Span {
+    Index begin, count;
+  };
+  std::vector<Span> orphan_spans;
+  std::size_t span_orphans = 0;  // points in orphan_spans
   std::vector<Conflict> orphans;
+  std::vector<Conflict> orphan_copy;
   std::vector<Index> discarded;
   std::vector<Index> ring;            // a face's vertices, for plane fitting
   std::vector<std::uint8_t> flagged;  // merge_new_faces: per new face, concave seen from the smaller side
@@ -262,27 +274,36 @@ struct QuickhullBuilder::Impl {
     if (pending[f]++ == 0) bulk_need += faces[f].count;
     ++bulk_need;
   }
-  template <class Item>
-  void place_noted(std::size_t m, Item&& item) {
+  // Compacting costs the live entries and the ranges placed since the last
+  // time (fewer than the entries placed): done when it frees an eighth of
+  // the pool, rather than growing it (a reallocation holds the old and the
+  // new pool at once).
+  bool placing_compacts() const {
+    return pool.size() + bulk_need > pool.capacity() && 8 * (pool.size() - pool_live) >= pool.size();
+  }
+  // Room for the noted points without reallocating while they are placed.
+  void reserve_for_notes() {
     const std::size_t need = bulk_need;
     if (pool.size() + need > pool.capacity()) {
-      // Compacting costs the live entries and the ranges placed since the
-      // last time (fewer than the entries placed): done when it frees an
-      // eighth of the pool, rather than growing it (a reallocation holds the
-      // old and the new pool at once).
-      if (8 * (pool.size() - pool_live) >= pool.size()) compact_pool();
+      if (placing_compacts()) compact_pool();
       if (pool.size() + need > pool.capacity()) pool.reserve(std::max(pool.size() + need, pool.capacity() / 2 * 3));
     }
+  }
+  void place_one(Index f, const Conflict& c) {
+    if (pending[f] > 0) {
+      make_room(f, pending[f]);
+      pending[f] = 0;
+    }
+    HEDRA_ASSERT(faces[f].distance(c.p) > eps);
+    pool[faces[f].begin + faces[f].count++] = c;
+    ++pool_live;
+  }
+  template <class Item>
+  void place_noted(std::size_t m, Item&& item) {
+    reserve_for_notes();
     for (std::size_t i = 0; i < m; ++i) {
       const Index f = assign_face[i];
-      if (f == kInvalidIndex) continue;
-      if (pending[f] > 0) {
-        make_room(f, pending[f]);
-        pending[f] = 0;
-      }
-      HEDRA_ASSERT(faces[f].distance(item(i).p) > eps);
-      pool[faces[f].begin + faces[f].count++] = item(i);
-      ++pool_live;
+      if (f != kInvalidIndex) place_one(f, item(i));
     }
   }
   // Moves the live ranges down to the start of the pool, in pool order (each
@@ -573,28 +594,45 @@ struct QuickhullBuilder::Impl {
   // Adds point `eye` to the hull whose visible faces and horizon find_horizon
   // collected: removes the visible faces, builds the cone, merges it, and
   // hands the orphaned conflict points to the new faces.
-  void add_point(Index eye) {
-    remove_visible_faces(eye);
+  void add_point(Index eye, Index eye_face, Index eye_at) {
+    remove_visible_faces(eye_face, eye_at);
     build_cone(eye);
     merge_new_faces();
     if (collapsed) return;  // the structure is abandoned; see absorb()
     assign_orphans();
   }
 
-  // Marks the visible faces deleted; their conflict points (but the eye)
-  // become orphans.
-  void remove_visible_faces(Index eye) {
+  // Marks the visible faces deleted; their conflict points (but the eye,
+  // at eye_at in the list of face eye_face) become orphans, left in place.
+  void remove_visible_faces(Index eye_face, Index eye_at) {
     orphans.clear();
+    orphan_spans.clear();
+    span_orphans = 0;
+    const auto add_span = [&](Index begin, Index count) {
+      if (count == 0) return;
+      orphan_spans.push_back({begin, count});
+      span_orphans += count;
+    };
     for (Index f : visible) {
       WorkFace& face = faces[f];
       face.mark = Mark::deleted;
-      for (Index k = face.count; k-- > 0;) {
-        const Conflict& c = pool[face.begin + k];
-        if (c.point != eye) orphans.push_back(c);
+      if (f == eye_face) {
+        add_span(face.begin + eye_at + 1, face.count - eye_at - 1);
+        add_span(face.begin, eye_at);
+      } else {
+        add_span(face.begin, face.count);
       }
       pool_live -= face.count;
       face.count = 0;
     }
+  }
+  // Calls fn(i, conflict) for every orphan i in order.
+  template <class Fn>
+  void for_each_orphan(Fn&& fn) const {
+    std::size_t i = 0;
+    for (const Span& span : orphan_spans)
+      for (Index k = span.count; k-- > 0;) fn(i++, pool[span.begin + k]);
+    for (const Conflict& c : orphans) fn(i++, c);
   }
 
   // A cone of triangles (a, b, eye), one per horizon edge a->b, linked to the
@@ -648,9 +686,10 @@ struct QuickhullBuilder::Impl {
     cone.clear();
     for (Index f : new_faces)
       if (faces[f].mark == Mark::alive) cone.push_back({faces[f].normal, faces[f].offset, f});
-    begin_notes(orphans.size());
-    for (std::size_t i = 0; i < orphans.size(); ++i) {
-      const Vec3& q = orphans[i].p;
+    const std::size_t m = span_orphans + orphans.size();
+    begin_notes(m);
+    for_each_orphan([&](std::size_t i, const Conflict& orphan) {
+      const Vec3& q = orphan.p;
       Index best = kInvalidIndex;
       double best_distance = eps;
       for (const ConePlane& c : cone) {
@@ -662,8 +701,21 @@ struct QuickhullBuilder::Impl {
         }
       }
       note(i, best);
+    });
+    if (placing_compacts()) {
+      // Compaction would overwrite the abandoned ranges the orphans are in.
+      orphan_copy.clear();
+      for_each_orphan([&](std::size_t, const Conflict& c) { orphan_copy.push_back(c); });
+      place_noted(m, [&](std::size_t i) -> const Conflict& { return orphan_copy[i]; });
+      return;
     }
-    place_noted(orphans.size(), [&](std::size_t i) -> const Conflict& { return orphans[i]; });
+    reserve_for_notes();  // grows the pool if it must, without compacting
+    // Placing then writes past the pool's end only, and never reallocates.
+    HEDRA_ASSERT(pool.size() + bulk_need <= pool.capacity());
+    for_each_orphan([&](std::size_t i, const Conflict& c) {
+      const Index f = assign_face[i];
+      if (f != kInvalidIndex) place_one(f, c);
+    });
   }
 
   // ---- degenerate hulls ---------------------------------------------------
@@ -876,10 +928,13 @@ struct QuickhullBuilder::Impl {
     bool prepared = false;  // on the first point that is not a vertex (a sphere's are all vertices)
     begin_notes(n);
     std::fill(assign_face.begin(), assign_face.end(), kInvalidIndex);
+    // The search's cell bounds may call a point within rounding of the
+    // surface inside: here only points more than 6 eps out count, so the
+    // answer is the same.
     for (Index i = 0; i < n; ++i) {
       if (point_stamp[i] == stamp) continue;  // a vertex
-      if (!prepared &&
-          !outside_search.prepare(WorkFaces{this}, c, detail::rounding_map(hull_vertices, c, faces[largest].normal)))
+      if (!prepared && !outside_search.prepare(WorkFaces{this}, c,
+                                               detail::rounding_map(hull_vertices, c, faces[largest].normal), n, true))
         return 0;
       prepared = true;
       const auto [face, d] = outside_search.farthest_face_in_front(pts[i]);
@@ -1051,11 +1106,16 @@ struct QuickhullBuilder::Impl {
         break;
       }
       double eye_distance = 0;
-      const Index eye = pop_eye(cursor, eye_distance);
+      const Index at = find_eye(cursor, eye_distance);
+      const Index eye = pool[faces[cursor].begin + at].point;
       ++r.iterations;
-      if (eye_distance <= eps) continue;  // the face moved in a merge; the point is on the hull now
-      if (near_vertex_of(cursor, eye)) continue;
-      add_eye(eye, cursor);
+      // On the hull already: the face moved in a merge, or a (near-)duplicate
+      // of a vertex.
+      if (eye_distance <= eps || near_vertex_of(cursor, eye)) {
+        remove_conflict(cursor, at);
+        continue;
+      }
+      add_eye(eye, cursor, at);
     }
   }
 
@@ -1118,11 +1178,12 @@ struct QuickhullBuilder::Impl {
     return moved;
   }
 
-  // Removes the farthest conflict point of face f (the eye; of equally far
-  // ones, the newest) and returns it, with its distance in front of f. The
-  // points after it move down one place: the list keeps its order.
-  Index pop_eye(Index f, double& eye_distance) {
-    WorkFace& face = faces[f];
+  // The place in face f's list of its farthest conflict point (the eye; of
+  // equally far ones, the newest), with its distance in front of f. The eye
+  // stays listed: adding it removes the face with its list, so only an eye
+  // that is not added is taken out (remove_conflict).
+  Index find_eye(Index f, double& eye_distance) const {
+    const WorkFace& face = faces[f];
     HEDRA_ASSERT(face.count > 0);
     const Conflict* list = pool.data() + face.begin;
     Index at = face.count - 1;
@@ -1131,12 +1192,16 @@ struct QuickhullBuilder::Impl {
       const double d = face.distance(list[k].p);
       if (d > eye_distance) eye_distance = d, at = k;
     }
-    const Index eye = list[at].point;
+    return at;
+  }
+  // Takes the point at `at` out of face f's list; the points after it move
+  // down one place: the list keeps its order.
+  void remove_conflict(Index f, Index at) {
+    WorkFace& face = faces[f];
     std::copy(pool.begin() + face.begin + at + 1, pool.begin() + face.begin + face.count,
               pool.begin() + face.begin + at);
     --face.count;
     --pool_live;
-    return eye;
   }
 
   // A (near-)duplicate of a vertex of its face lies just above the faces
@@ -1156,7 +1221,8 @@ struct QuickhullBuilder::Impl {
   // One iteration for the eye seen by face f: horizon, cone, merge, orphans,
   // then the cheap check of what it touched. Sets `collapsed` when the
   // attempt must be abandoned.
-  void add_eye(Index eye, Index f) {
+  // The eye is at `at` in f's list.
+  void add_eye(Index eye, Index f, Index at) {
     find_horizon(eye, f);
     if (!horizon_is_simple()) {
       // Visibility inconsistent within eps (nearly coplanar faces seen
@@ -1164,11 +1230,12 @@ struct QuickhullBuilder::Impl {
       // leaving the point out. Give up this attempt; the retry's larger eps
       // merges those faces.
       for (Index g : visible) faces[g].mark = Mark::alive;
+      remove_conflict(f, at);
       collapsed = true;
       return;
     }
     merged = false;
-    add_point(eye);
+    add_point(eye, f, at);
     // Without a merge the cone is sound by construction (a simple horizon,
     // links set pairwise): only merges need the check.
     HEDRA_ASSERT(collapsed || merged || new_faces_sound(false));
@@ -1522,7 +1589,8 @@ double max_outside_distance(const HalfEdgeMesh& mesh, const std::vector<Eigen::V
     if (newell.norm() > largest_area) largest_area = newell.norm(), largest = f;
   }
   detail::OutsideSearch<MeshFaces> search;
-  if (!search.prepare(MeshFaces{&mesh}, c, detail::rounding_map(positions, c, mesh.plane(largest).normal))) {
+  if (!search.prepare(MeshFaces{&mesh}, c, detail::rounding_map(positions, c, mesh.plane(largest).normal),
+                      points.size())) {
     // Not a proper solid around its vertex average: check every plane.
     for (const auto& p : points)
       for (Index f = 0; f < mesh.face_count(); ++f) worst = std::max(worst, mesh.plane(f).signed_distance(p));

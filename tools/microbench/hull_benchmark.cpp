@@ -32,7 +32,9 @@
 // application building many hulls would. Run with repetitions and read
 // medians: tools/microbench/hull_table.py turns --benchmark_format=json output into a
 // table. `hull_benchmark --memory` prints only the memory per point, for these
-// sets and a sphere of 1e6 points (too slow to time here).
+// sets and a sphere of 1e6 points (too slow to time here); `--digest` a hash
+// of each build's whole output (these sets and 520 small clouds), to compare
+// two builds bit for bit; `--once SET` one build of SET, for callgrind.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>
@@ -299,11 +301,137 @@ int print_memory() {
   return 0;
 }
 
+// --digest: one line per cloud (these sets and 520 small random and
+// degenerate ones) with a 64-bit FNV-1a hash of everything a build returns:
+// status, tolerance, dimension, iterations, input indices, vertices, and
+// every half-edge's links and face's plane, bit for bit. Two builds of the
+// library whose digests match gave the same answers on every cloud.
+struct Digest {
+  std::uint64_t h = 1469598103934665603ull;
+  void bytes(const void* data, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  }
+  template <class T>
+  void add(const T& v) {
+    bytes(&v, sizeof v);
+  }
+};
+
+std::uint64_t result_digest(const hedra::hull::QuickhullResult& r) {
+  Digest d;
+  d.add(static_cast<int>(r.status));
+  d.add(r.tolerance), d.add(r.dimension), d.add(r.iterations), d.add(r.mesh.tolerance());
+  for (hedra::hull::Index i : r.input_index) d.add(i);
+  for (const auto& v : r.mesh.vertices)
+    d.add(v.position.x()), d.add(v.position.y()), d.add(v.position.z()), d.add(v.edge);
+  for (const auto& e : r.mesh.edges) d.add(e.origin), d.add(e.twin), d.add(e.next), d.add(e.prev), d.add(e.face);
+  for (const auto& f : r.mesh.faces) {
+    d.add(f.edge);
+    d.add(f.plane.normal.x()), d.add(f.plane.normal.y()), d.add(f.plane.normal.z()), d.add(f.plane.offset);
+  }
+  d.bytes(r.error.data(), r.error.size());
+  return d.h;
+}
+
+// Small clouds of every kind that makes quickhull decide near its
+// tolerance: 40 seeds of each of 13 families.
+Points digest_cloud(int family, std::uint64_t seed) {
+  std::mt19937_64 engine(seed * 131 + static_cast<std::uint64_t>(family));
+  const std::size_t n = 4 + engine() % 1500;
+  const Eigen::Matrix3d turn = (Eigen::AngleAxisd(uniform(engine, 0, 3), Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(uniform(engine, 0, 3), Eigen::Vector3d::UnitY()))
+                                   .toRotationMatrix();
+  Points p;
+  switch (family) {
+    case 0:
+      return uniform_ball(n, seed);
+    case 1:
+      return sphere_surface(n, seed);
+    case 2:
+      return cylinder_surface(n, seed);
+    case 3:
+    case 4:  // slabs 1e-10 and 1e-14 thick, turned
+      for (std::size_t i = 0; i < n; ++i) {
+        const double t = family == 3 ? 1e-10 : 1e-14;
+        p.push_back(turn * Eigen::Vector3d(uniform(engine, -1, 1), uniform(engine, -1, 1), uniform(engine, -t, t)));
+      }
+      return p;
+    case 5:  // exact duplicates and 1e-15 moves
+      p = sphere_surface(n / 2 + 2, seed);
+      for (std::size_t i = 0, half = p.size(); i < half; ++i)
+        p.push_back(engine() % 2 ? p[i] : Eigen::Vector3d(p[i] + Eigen::Vector3d(1e-15, -1e-15, 0.5e-15)));
+      shuffle(p, engine);
+      return p;
+    case 6:  // clusters of near-duplicates
+      for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector3d q = sphere_surface(1, seed * 7 + engine() % 12)[0];
+        p.push_back(q +
+                    1e-12 * Eigen::Vector3d(uniform(engine, -1, 1), uniform(engine, -1, 1), uniform(engine, -1, 1)));
+      }
+      return p;
+    case 7:  // stretched, far from the origin
+      for (const auto& q : uniform_ball(n, seed))
+        p.push_back(turn * Eigen::Vector3d(1e3 * q.x(), q.y(), 1e-3 * q.z()) + Eigen::Vector3d(1e5, 0, -3e4));
+      return p;
+    case 8:  // sphere points rounded to a 1/64 grid
+      for (const auto& q : sphere_surface(n, seed)) p.push_back((q * 64).array().round().matrix() / 64);
+      return p;
+    case 9:  // coplanar, turned
+      for (std::size_t i = 0; i < n; ++i)
+        p.push_back(turn * Eigen::Vector3d(uniform(engine, -1, 1), uniform(engine, -1, 1), 0));
+      return p;
+    case 10:  // collinear, turned
+      for (std::size_t i = 0; i < n; ++i) p.push_back(turn * Eigen::Vector3d(uniform(engine, -1, 1), 0, 0));
+      return p;
+    case 11: {  // integer lattice in a box
+      const int k = 2 + static_cast<int>(engine() % 7);
+      for (int x = 0; x < k; ++x)
+        for (int y = 0; y < k; ++y)
+          for (int z = 0; z < k; ++z) p.emplace_back(x, y, z);
+      shuffle(p, engine);
+      return p;
+    }
+    default:
+      return cube_grid(3 + static_cast<int>(engine() % 20), seed);
+  }
+}
+
+int print_digests() {
+  hedra::hull::QuickhullBuilder builder;  // reused, as the benchmark does
+  for (const PointSet& set : point_sets())
+    std::printf("%-20s %016llx\n", set.name.c_str(),
+                static_cast<unsigned long long>(result_digest(builder.build(set.make()))));
+  for (int family = 0; family < 13; ++family)
+    for (std::uint64_t seed = 0; seed < 40; ++seed)
+      std::printf("cloud/%d/%llu %016llx\n", family, static_cast<unsigned long long>(seed),
+                  static_cast<unsigned long long>(result_digest(builder.build(digest_cloud(family, seed)))));
+  return 0;
+}
+
+// --once SET: one build of SET with a new builder (for callgrind:
+// --toggle-collect='hedra::hull::QuickhullBuilder::build*').
+int build_once(const char* name) {
+  for (const PointSet& set : point_sets()) {
+    if (set.name != name) continue;
+    const Points points = set.make();
+    hedra::hull::QuickhullBuilder builder;
+    const hedra::hull::QuickhullResult r = builder.build(points);
+    std::printf("%s: %zu vertices\n", name, r.mesh.vertex_count());
+    return 0;
+  }
+  std::fprintf(stderr, "no set %s\n", name);
+  return 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i)
+  for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--memory") == 0) return print_memory();
+    if (std::strcmp(argv[i], "--digest") == 0) return print_digests();
+    if (std::strcmp(argv[i], "--once") == 0 && i + 1 < argc) return build_once(argv[i + 1]);
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
