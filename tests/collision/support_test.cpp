@@ -258,7 +258,7 @@ TEST(PolyhedronSupport, ClimbOnFlatHulls) {
 TEST(PolyhedronSupport, DispatchAndHintOnLargeHull) {
   std::mt19937_64 rng(3);
   const auto poly = make_hull(random_ball_points(rng, 20000, true));
-  ASSERT_GT(poly->vertex_count(), kHillClimbCrossover);
+  ASSERT_GT(poly->vertex_count(), hill_climb_crossover());
   // Directions rotating slowly, the hint carried along as a cache would.
   PolyhedronCore core{poly.get(), 0};
   Eigen::Vector3d d = random_unit(rng);

@@ -11,26 +11,24 @@
 // parallel to the axis (|d_xy| <= eps |d|) returns the rim point on +x, whose
 // support value is off by at most radius * eps * |d|.
 //
-// Polyhedra: a linear scan below kHillClimbCrossover vertices (four at a
+// Polyhedra: a linear scan below hill_climb_crossover() vertices (four at a
 // time, AVX2 or SSE2 where the processor has them, the same first maximiser
-// as one at a time),
-// above it hill-climbing over the vertex adjacency of the half-edge mesh: from
-// the hint vertex (on large hulls, from the better of the hint and the best
-// of a few precomputed extreme vertices), move to the neighbour with the
-// largest d . x while it strictly improves. On a convex polytope a vertex none of whose neighbours is
-// strictly better is a global maximiser (the edge graph of a polytope reaches
-// every vertex along non-decreasing d . x from any vertex that is not a
-// maximiser, the simplex method's optimality argument), so the answer is
-// exact, plateaus included, provided coplanar faces are merged: quickhull
-// merges them, so no face is reflex beyond its tolerance. Each step strictly
-// increases d . x, so the walk visits a vertex at most once; its cap (the
-// vertex count) can only be reached by a broken mesh or a non-finite
-// direction, and then the linear scan answers instead. A NaN direction
-// compares false everywhere and returns the start vertex: callers reject
+// as one at a time), above it hill-climbing over the vertex adjacency of the
+// half-edge mesh: from the hint vertex (on large hulls, from the better of
+// the hint and the best of a few precomputed extreme vertices), move to the
+// neighbour with the largest d . x while it strictly improves. On a convex
+// polytope a vertex none of whose neighbours is strictly better is a global maximiser (the edge graph of a polytope
+// reaches every vertex along non-decreasing d . x from any vertex that is not a maximiser, the simplex method's
+// optimality argument), so the answer is exact, plateaus included, provided coplanar faces are merged: quickhull merges
+// them, so no face is reflex beyond its tolerance. Each step strictly increases d . x, so the walk visits a vertex at
+// most once; its cap (the vertex count) can only be reached by a broken mesh or a non-finite direction, and then the
+// linear scan answers instead. A NaN direction compares false everywhere and returns the start vertex: callers reject
 // non-finite directions before (GJK does).
 //
-// The crossover (32 vertices) is measured: docs/design.md, "Support
-// crossover".
+// The crossover (32 vertices with SSE2 lanes, 64 with AVX2's) is measured:
+// docs/design.md, "Support crossover". Where two vertices tie, the scan and
+// the climb may answer different ones (both exact), so answers can differ
+// in their last bits between processors with and without AVX2.
 #pragma once
 
 #include <Eigen/Core>
@@ -60,7 +58,11 @@
 
 namespace hedra::collision {
 
+// Below this many vertices the scan answers, from it on the climb
+// (docs/design.md, "Support crossover"): 32 with SSE2 lanes, 64 with AVX2's
+// (hill_climb_crossover(), below, picks the one this processor runs).
 inline constexpr std::size_t kHillClimbCrossover = 32;
+inline constexpr std::size_t kHillClimbCrossoverAvx2 = 64;
 
 // The first index of a vertex maximising d . vertex(i), one vertex at a
 // time: the reference the vectorised scan below must agree with.
@@ -182,6 +184,16 @@ inline const bool kProcessorHasAvx2 = [] {
 }();
 #endif
 
+inline std::size_t hill_climb_crossover() {
+#if defined(HEDRA_AVX2_DISPATCH)
+  return kProcessorHasAvx2 ? kHillClimbCrossoverAvx2 : kHillClimbCrossover;
+#elif defined(HEDRA_AVX2_SCAN)
+  return kHillClimbCrossoverAvx2;
+#else
+  return kHillClimbCrossover;
+#endif
+}
+
 // first_block_max_sse2 or, where the processor has it, first_block_max_avx2:
 // the same answer.
 inline BlockBest first_block_max(const ConvexPolyhedron::VertexBlock* blocks, std::size_t count,
@@ -274,7 +286,7 @@ inline hull::Index polyhedron_support_climb(const ConvexPolyhedron& poly, const 
 }
 
 inline hull::Index polyhedron_support(const ConvexPolyhedron& poly, const Eigen::Vector3d& d, hull::Index hint) {
-  if (poly.vertex_count() < kHillClimbCrossover || poly.dimension() < 2) return polyhedron_support_scan(poly, d);
+  if (poly.vertex_count() < hill_climb_crossover() || poly.dimension() < 2) return polyhedron_support_scan(poly, d);
   return polyhedron_support_climb(poly, d, hint);
 }
 
