@@ -258,7 +258,7 @@ TEST(PolyhedronSupport, ClimbOnFlatHulls) {
 TEST(PolyhedronSupport, DispatchAndHintOnLargeHull) {
   std::mt19937_64 rng(3);
   const auto poly = make_hull(random_ball_points(rng, 20000, true));
-  ASSERT_GT(poly->vertex_count(), kHillClimbCrossover);
+  ASSERT_GT(poly->vertex_count(), hill_climb_crossover());
   // Directions rotating slowly, the hint carried along as a cache would.
   PolyhedronCore core{poly.get(), 0};
   Eigen::Vector3d d = random_unit(rng);
@@ -286,8 +286,9 @@ TEST(PolyhedronSupport, ClimbFromStartVerticesOnLargeHulls) {
   EXPECT_EQ(stats.exact, stats.checks);
 }
 
-// The vectorised scan walks the vertices in four lanes and padded blocks:
-// it must give the serial scan's index (the first maximiser) bit for bit,
+// The vectorised scans (SSE2, and AVX2 where the processor has it) walk the
+// vertices in four lanes and padded blocks: each must give the serial scan's
+// index (the first maximiser) bit for bit,
 // ties, a zero direction, infinities and NaN included, for every count
 // modulo 4 (padding).
 TEST(PolyhedronSupport, BlockScanIsTheFirstMaximiserLikeTheSerialScan) {
@@ -298,6 +299,7 @@ TEST(PolyhedronSupport, BlockScanIsTheFirstMaximiserLikeTheSerialScan) {
   for (int n : {4, 5, 6, 7, 30, 31, 33, 100}) inputs.push_back(random_ball_points(rng, n, true));
   const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
   long checks = 0;
+  [[maybe_unused]] long avx2_checks = 0;
   for (const auto& points : inputs) {
     const auto poly = make_hull(points);
     ASSERT_TRUE(poly);
@@ -312,12 +314,31 @@ TEST(PolyhedronSupport, BlockScanIsTheFirstMaximiserLikeTheSerialScan) {
     dirs.push_back(Eigen::Vector3d(nan, nan, nan));
     dirs.push_back(Eigen::Vector3d(inf, -inf, 1.0));
     for (const Eigen::Vector3d& d : dirs) {
-      ASSERT_EQ(polyhedron_support_scan(*poly, d), polyhedron_support_scan_serial(*poly, d))
+      const hull::Index serial = polyhedron_support_scan_serial(*poly, d);
+      ASSERT_EQ(polyhedron_support_scan(*poly, d), serial)
           << "direction " << d.transpose() << " vertices " << poly->vertex_count();
+      // Each vectorised variant on its own, whichever the dispatch picks.
+      const double start = d.dot(poly->vertex(0));
+      const auto& blocks = poly->vertex_blocks();
+      const BlockBest sse2 = first_block_max_sse2(blocks.data(), blocks.size(), d, start);
+      ASSERT_EQ(sse2.position < 0.0 ? 0 : static_cast<hull::Index>(sse2.position), serial) << d.transpose();
+#if defined(HEDRA_AVX2_SCAN)
+#  if defined(HEDRA_AVX2_DISPATCH)
+      if (kProcessorHasAvx2)
+#  endif
+      {
+        const BlockBest avx2 = first_block_max_avx2(blocks.data(), blocks.size(), d, start);
+        ASSERT_EQ(avx2.position < 0.0 ? 0 : static_cast<hull::Index>(avx2.position), serial) << d.transpose();
+        ++avx2_checks;
+      }
+#endif
       ++checks;
     }
   }
   EXPECT_GT(checks, 1000);
+#if defined(HEDRA_AVX2_SCAN) && !defined(HEDRA_AVX2_DISPATCH)
+  EXPECT_EQ(avx2_checks, checks);  // compiled for AVX2: always checked
+#endif
 }
 
 TEST(ConvexPolyhedron, RecentredOnCentroidWithOffsetKept) {

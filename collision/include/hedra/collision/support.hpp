@@ -11,25 +11,24 @@
 // parallel to the axis (|d_xy| <= eps |d|) returns the rim point on +x, whose
 // support value is off by at most radius * eps * |d|.
 //
-// Polyhedra: a linear scan below kHillClimbCrossover vertices (four at a
-// time, SSE2 where available, the same first maximiser as one at a time),
-// above it hill-climbing over the vertex adjacency of the half-edge mesh: from
-// the hint vertex (on large hulls, from the better of the hint and the best
-// of a few precomputed extreme vertices), move to the neighbour with the
-// largest d . x while it strictly improves. On a convex polytope a vertex none of whose neighbours is
-// strictly better is a global maximiser (the edge graph of a polytope reaches
-// every vertex along non-decreasing d . x from any vertex that is not a
-// maximiser, the simplex method's optimality argument), so the answer is
-// exact, plateaus included, provided coplanar faces are merged: quickhull
-// merges them, so no face is reflex beyond its tolerance. Each step strictly
-// increases d . x, so the walk visits a vertex at most once; its cap (the
-// vertex count) can only be reached by a broken mesh or a non-finite
-// direction, and then the linear scan answers instead. A NaN direction
-// compares false everywhere and returns the start vertex: callers reject
+// Polyhedra: a linear scan below hill_climb_crossover() vertices (four at a
+// time, AVX2 or SSE2 where the processor has them, the same first maximiser
+// as one at a time), above it hill-climbing over the vertex adjacency of the
+// half-edge mesh: from the hint vertex (on large hulls, from the better of
+// the hint and the best of a few precomputed extreme vertices), move to the
+// neighbour with the largest d . x while it strictly improves. On a convex
+// polytope a vertex none of whose neighbours is strictly better is a global maximiser (the edge graph of a polytope
+// reaches every vertex along non-decreasing d . x from any vertex that is not a maximiser, the simplex method's
+// optimality argument), so the answer is exact, plateaus included, provided coplanar faces are merged: quickhull merges
+// them, so no face is reflex beyond its tolerance. Each step strictly increases d . x, so the walk visits a vertex at
+// most once; its cap (the vertex count) can only be reached by a broken mesh or a non-finite direction, and then the
+// linear scan answers instead. A NaN direction compares false everywhere and returns the start vertex: callers reject
 // non-finite directions before (GJK does).
 //
-// The crossover (32 vertices) is measured: docs/design.md, "Support
-// crossover".
+// The crossover (32 vertices with SSE2 lanes, 64 with AVX2's) is measured:
+// docs/design.md, "Support crossover". Where two vertices tie, the scan and
+// the climb may answer different ones (both exact), so answers can differ
+// in their last bits between processors with and without AVX2.
 #pragma once
 
 #include <Eigen/Core>
@@ -42,10 +41,28 @@
 #if defined(__SSE2__)
 #  include <emmintrin.h>
 #endif
+// AVX2 scan: always when the compiler targets AVX2; otherwise, with GCC or
+// Clang on x86_64, compiled for AVX2 apart and chosen at run time when the
+// processor has it (the default build stays portable to any x86_64).
+#if defined(__AVX2__)
+#  define HEDRA_AVX2_SCAN 1
+#  define HEDRA_AVX2_TARGET
+#elif defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#  define HEDRA_AVX2_SCAN 1
+#  define HEDRA_AVX2_DISPATCH 1
+#  define HEDRA_AVX2_TARGET __attribute__((target("avx2")))
+#endif
+#if defined(HEDRA_AVX2_SCAN)
+#  include <immintrin.h>
+#endif
 
 namespace hedra::collision {
 
+// Below this many vertices the scan answers, from it on the climb
+// (docs/design.md, "Support crossover"): 32 with SSE2 lanes, 64 with AVX2's
+// (hill_climb_crossover(), below, picks the one this processor runs).
 inline constexpr std::size_t kHillClimbCrossover = 32;
+inline constexpr std::size_t kHillClimbCrossoverAvx2 = 64;
 
 // The first index of a vertex maximising d . vertex(i), one vertex at a
 // time: the reference the vectorised scan below must agree with.
@@ -76,8 +93,16 @@ struct BlockBest {
   double position;
   double value;
 };
-inline BlockBest first_block_max(const ConvexPolyhedron::VertexBlock* blocks, std::size_t count,
-                                 const Eigen::Vector3d& d, double start_value) {
+// The lanes' reduction: the largest value, ties to the smaller position.
+inline BlockBest best_of_lanes(const double (&value)[4], const double (&position)[4]) {
+  int best = 0;
+  for (int k = 1; k < 4; ++k)
+    if (value[k] > value[best] || (value[k] == value[best] && position[k] < position[best])) best = k;
+  return {position[best], value[best]};
+}
+
+inline BlockBest first_block_max_sse2(const ConvexPolyhedron::VertexBlock* blocks, std::size_t count,
+                                      const Eigen::Vector3d& d, double start_value) {
   alignas(16) double value[4], position[4];
 #if defined(__SSE2__)
   const __m128d dx = _mm_set1_pd(d.x()), dy = _mm_set1_pd(d.y()), dz = _mm_set1_pd(d.z());
@@ -120,10 +145,65 @@ inline BlockBest first_block_max(const ConvexPolyhedron::VertexBlock* blocks, st
     }
   }
 #endif
-  int best = 0;
-  for (int k = 1; k < 4; ++k)
-    if (value[k] > value[best] || (value[k] == value[best] && position[k] < position[best])) best = k;
-  return {position[best], value[best]};
+  return best_of_lanes(value, position);
+}
+
+#if defined(HEDRA_AVX2_SCAN)
+// The same lanes in one 256-bit register each: the same products and sums
+// in the same order (no fused multiply-add), so the same first maximiser.
+HEDRA_AVX2_TARGET inline BlockBest first_block_max_avx2(const ConvexPolyhedron::VertexBlock* blocks, std::size_t count,
+                                                        const Eigen::Vector3d& d, double start_value) {
+  alignas(32) double value[4], position[4];
+  const __m256d dx = _mm256_set1_pd(d.x()), dy = _mm256_set1_pd(d.y()), dz = _mm256_set1_pd(d.z());
+  const __m256d step = _mm256_set1_pd(4.0);
+  __m256d best = _mm256_set1_pd(start_value);
+  __m256d best_position = _mm256_set1_pd(-1.0);
+  __m256d at = _mm256_set_pd(3.0, 2.0, 1.0, 0.0);
+  for (const ConvexPolyhedron::VertexBlock* b = blocks; b != blocks + count; ++b) {
+    const __m256d v =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, _mm256_load_pd(b->x)), _mm256_mul_pd(dy, _mm256_load_pd(b->y))),
+                      _mm256_mul_pd(dz, _mm256_load_pd(b->z)));
+    const __m256d up = _mm256_cmp_pd(v, best, _CMP_GT_OQ);  // false on NaN, as v > best
+    best = _mm256_max_pd(v, best);                          // v > best ? v : best
+    best_position = _mm256_blendv_pd(best_position, at, up);
+    at = _mm256_add_pd(at, step);
+  }
+  _mm256_store_pd(value, best);
+  _mm256_store_pd(position, best_position);
+  return best_of_lanes(value, position);
+}
+#endif
+
+#if defined(HEDRA_AVX2_DISPATCH)
+// Whether this processor runs AVX2, asked once (before this is initialised,
+// during other static initialisers, it reads false: the SSE2 scan, the same
+// answer).
+inline const bool kProcessorHasAvx2 = [] {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") != 0;
+}();
+#endif
+
+inline std::size_t hill_climb_crossover() {
+#if defined(HEDRA_AVX2_DISPATCH)
+  return kProcessorHasAvx2 ? kHillClimbCrossoverAvx2 : kHillClimbCrossover;
+#elif defined(HEDRA_AVX2_SCAN)
+  return kHillClimbCrossoverAvx2;
+#else
+  return kHillClimbCrossover;
+#endif
+}
+
+// first_block_max_sse2 or, where the processor has it, first_block_max_avx2:
+// the same answer.
+inline BlockBest first_block_max(const ConvexPolyhedron::VertexBlock* blocks, std::size_t count,
+                                 const Eigen::Vector3d& d, double start_value) {
+#if defined(HEDRA_AVX2_DISPATCH)
+  if (kProcessorHasAvx2) return first_block_max_avx2(blocks, count, d, start_value);
+#elif defined(HEDRA_AVX2_SCAN)
+  return first_block_max_avx2(blocks, count, d, start_value);
+#endif
+  return first_block_max_sse2(blocks, count, d, start_value);
 }
 
 // The same index as the serial scan, four vertices at a time over
@@ -206,7 +286,7 @@ inline hull::Index polyhedron_support_climb(const ConvexPolyhedron& poly, const 
 }
 
 inline hull::Index polyhedron_support(const ConvexPolyhedron& poly, const Eigen::Vector3d& d, hull::Index hint) {
-  if (poly.vertex_count() < kHillClimbCrossover || poly.dimension() < 2) return polyhedron_support_scan(poly, d);
+  if (poly.vertex_count() < hill_climb_crossover() || poly.dimension() < 2) return polyhedron_support_scan(poly, d);
   return polyhedron_support_climb(poly, d, hint);
 }
 
