@@ -33,6 +33,14 @@
 #  include <emmintrin.h>
 #endif
 
+// Inlines every call in the function's body: Polytope::expand's area_vector
+// (through plane), which GCC otherwise leaves out of line.
+#if defined(__GNUC__)
+#  define HEDRA_EPA_FLATTEN __attribute__((flatten))
+#else
+#  define HEDRA_EPA_FLATTEN
+#endif
+
 namespace hedra::collision {
 
 enum class EpaStatus {
@@ -306,7 +314,7 @@ struct Polytope {
   // connected to `start` through faces that see w by more than `visible`,
   // and fans new faces from w to the horizon. Validates first; on failure
   // the polytope is unchanged.
-  Expansion expand(int start, const Vertex& w, double visible, int stamp) {
+  HEDRA_EPA_FLATTEN Expansion expand(int start, const Vertex& w, double visible, int stamp) {
     if (vertex_count >= kEpaMaxVertices) return Expansion::full;
     const int wid = vertex_count;
     // 1. The visibility walk, breadth first: `removed` is the queue and, at
