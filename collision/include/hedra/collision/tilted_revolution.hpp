@@ -495,8 +495,10 @@ struct Search {
     double bound = std::numeric_limits<double>::infinity();
     for (int ia = 0; ia < 2; ++ia) {
       const Polygon pa = clip(sq, Eigen::Vector2d::UnitX(), pr.fa.kink, ia == 0 ? 1.0 : -1.0);
+      if (pa.n == 0) continue;
       for (int ib = 0; ib < 2; ++ib) {
         const Polygon piece = clip(pa, kink_b_normal, pr.fb.kink, ib == 0 ? 1.0 : -1.0);
+        if (piece.n == 0) continue;  // an empty piece bounds nothing (piece_bound's infinity)
         const Candidate cnd = piece_bound(pr, piece, ia == 0 ? pr.fa.lo : pr.fa.hi, ib == 0 ? pr.fb.lo : pr.fb.hi);
         if (cnd.value < bound) bound = cnd.value;
         if (std::isfinite(cnd.value)) offer(pr.direction(cnd.P));
