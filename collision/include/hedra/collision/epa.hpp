@@ -37,7 +37,18 @@
 // leaves a small helper out of line: Polytope::expand's area_vector (through
 // plane), tilted_revolution.hpp's piece_bound's accurate_hypot. Inlining
 // changes no result (-ffp-contract=off: the same operations, the same bits).
-#if defined(__GNUC__)
+// Only in optimised builds without assertions or sanitizers: there the
+// recursive inlining reaches every unoptimised helper (Eigen's expression
+// layers, the assertions' checks), and GCC 12 at -O1 with ASan took more
+// than 6 GB and 15 minutes on query.cpp before it was stopped.
+#if defined(__SANITIZE_ADDRESS__)
+#  define HEDRA_SANITIZED 1
+#elif defined(__has_feature)
+#  if __has_feature(address_sanitizer)
+#    define HEDRA_SANITIZED 1
+#  endif
+#endif
+#if defined(__GNUC__) && defined(__OPTIMIZE__) && defined(NDEBUG) && !defined(HEDRA_SANITIZED)
 #  define HEDRA_FLATTEN __attribute__((flatten))
 #else
 #  define HEDRA_FLATTEN
