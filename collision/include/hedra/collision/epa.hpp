@@ -33,6 +33,27 @@
 #  include <emmintrin.h>
 #endif
 
+// Inlines every call in the function's body, for the hot loops where GCC
+// leaves a small helper out of line: Polytope::expand's area_vector (through
+// plane), tilted_revolution.hpp's piece_bound's accurate_hypot. Inlining
+// changes no result (-ffp-contract=off: the same operations, the same bits).
+// Only in optimised builds without assertions or sanitizers: there the
+// recursive inlining reaches every unoptimised helper (Eigen's expression
+// layers, the assertions' checks), and GCC 12 at -O1 with ASan took more
+// than 6 GB and 15 minutes on query.cpp before it was stopped.
+#if defined(__SANITIZE_ADDRESS__)
+#  define HEDRA_SANITIZED 1
+#elif defined(__has_feature)
+#  if __has_feature(address_sanitizer)
+#    define HEDRA_SANITIZED 1
+#  endif
+#endif
+#if defined(__GNUC__) && defined(__OPTIMIZE__) && defined(NDEBUG) && !defined(HEDRA_SANITIZED)
+#  define HEDRA_FLATTEN __attribute__((flatten))
+#else
+#  define HEDRA_FLATTEN
+#endif
+
 namespace hedra::collision {
 
 enum class EpaStatus {
@@ -306,7 +327,7 @@ struct Polytope {
   // connected to `start` through faces that see w by more than `visible`,
   // and fans new faces from w to the horizon. Validates first; on failure
   // the polytope is unchanged.
-  Expansion expand(int start, const Vertex& w, double visible, int stamp) {
+  HEDRA_FLATTEN Expansion expand(int start, const Vertex& w, double visible, int stamp) {
     if (vertex_count >= kEpaMaxVertices) return Expansion::full;
     const int wid = vertex_count;
     // 1. The visibility walk, breadth first: `removed` is the queue and, at

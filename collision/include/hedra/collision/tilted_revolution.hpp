@@ -114,10 +114,22 @@ struct Polygon {
 inline Polygon clip(const Polygon& in, const Eigen::Vector2d& normal, double offset, double side) {
   Polygon out;
   if (in.n == 0) return out;
+  // Each vertex's signed distance once; a polygon wholly on one side is
+  // kept or dropped whole (what the walk below gives it).
+  std::array<double, 8> dist;
+  bool any_kept = false, any_cut = false;
   for (int i = 0; i < in.n; ++i) {
+    dist[i] = side * (normal.dot(in.p[i]) - offset);
+    any_kept = any_kept || dist[i] <= 0.0;
+    any_cut = any_cut || !(dist[i] <= 0.0);
+  }
+  if (!any_kept) return out;
+  if (!any_cut) return in.n < 3 ? out : in;
+  for (int i = 0; i < in.n; ++i) {
+    const int j = i + 1 < in.n ? i + 1 : 0;
     const Eigen::Vector2d& p = in.p[i];
-    const Eigen::Vector2d& q = in.p[(i + 1) % in.n];
-    const double dp = side * (normal.dot(p) - offset), dq = side * (normal.dot(q) - offset);
+    const Eigen::Vector2d& q = in.p[j];
+    const double dp = dist[i], dq = dist[j];
     if (dp <= 0.0) out.p[out.n++] = p;
     if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0)) {
       const double w = dp / (dp - dq);
@@ -185,7 +197,7 @@ inline double pole_cap_bound(const Problem& pr, int which, double phi_max) {
 
 // The convex lower bound on one piece: chord_A(X) + chord_B(w) - t1 X - t2 Y
 // - tau gamma, w = -(c X + s Y); its exact minimum over piece and disc.
-inline Candidate piece_bound(const Problem& pr, const Polygon& poly, const Branch& ga, const Branch& gb) {
+HEDRA_FLATTEN inline Candidate piece_bound(const Problem& pr, const Polygon& poly, const Branch& ga, const Branch& gb) {
   Candidate best;
   if (poly.n == 0) return best;
   const Eigen::Vector2d wb(-pr.c, -pr.s);  // w = wb . P
@@ -483,8 +495,10 @@ struct Search {
     double bound = std::numeric_limits<double>::infinity();
     for (int ia = 0; ia < 2; ++ia) {
       const Polygon pa = clip(sq, Eigen::Vector2d::UnitX(), pr.fa.kink, ia == 0 ? 1.0 : -1.0);
+      if (pa.n == 0) continue;
       for (int ib = 0; ib < 2; ++ib) {
         const Polygon piece = clip(pa, kink_b_normal, pr.fb.kink, ib == 0 ? 1.0 : -1.0);
+        if (piece.n == 0) continue;  // an empty piece bounds nothing (piece_bound's infinity)
         const Candidate cnd = piece_bound(pr, piece, ia == 0 ? pr.fa.lo : pr.fa.hi, ib == 0 ? pr.fb.lo : pr.fb.hi);
         if (cnd.value < bound) bound = cnd.value;
         if (std::isfinite(cnd.value)) offer(pr.direction(cnd.P));
