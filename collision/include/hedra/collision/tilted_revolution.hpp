@@ -124,7 +124,12 @@ inline Polygon clip(const Polygon& in, const Eigen::Vector2d& normal, double off
     any_cut = any_cut || !(dist[i] <= 0.0);
   }
   if (!any_kept) return out;
-  if (!any_cut) return in.n < 3 ? out : in;
+  if (!any_cut) {  // the points in order, no copy of the unused slots
+    if (in.n < 3) return out;
+    out.n = in.n;
+    for (int i = 0; i < in.n; ++i) out.p[i] = in.p[i];
+    return out;
+  }
   for (int i = 0; i < in.n; ++i) {
     const int j = i + 1 < in.n ? i + 1 : 0;
     const Eigen::Vector2d& p = in.p[i];
