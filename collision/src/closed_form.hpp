@@ -8,8 +8,9 @@
 // 64-bit significand where long double has one (x86's extended format), so
 // that the answer is nearly correctly rounded, and in double elsewhere (never
 // in a software-emulated quad long double: this is a per-query path); the
-// error bound holds for double arithmetic (sphere_box_bound). Centres outside the core keep GJK's path: there
-// penetration() equals distance() bit for bit.
+// error bound holds for double arithmetic (sphere_box_bound). Centres
+// outside the core keep GJK's path: there penetration() equals distance()
+// bit for bit.
 #pragma once
 
 #include <Eigen/Core>

@@ -48,7 +48,7 @@
 #    define HEDRA_SANITIZED 1
 #  endif
 #endif
-#if defined(__GNUC__) && defined(__OPTIMIZE__) && defined(NDEBUG) && !defined(HEDRA_SANITIZED)
+#if defined(__GNUC__) && defined(__OPTIMIZE__) && !HEDRA_ASSERTS_ENABLED && !defined(HEDRA_SANITIZED)
 #  define HEDRA_FLATTEN __attribute__((flatten))
 #else
 #  define HEDRA_FLATTEN

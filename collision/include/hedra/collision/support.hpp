@@ -17,13 +17,17 @@
 // half-edge mesh: from the hint vertex (on large hulls, from the better of
 // the hint and the best of a few precomputed extreme vertices), move to the
 // neighbour with the largest d . x while it strictly improves. On a convex
-// polytope a vertex none of whose neighbours is strictly better is a global maximiser (the edge graph of a polytope
-// reaches every vertex along non-decreasing d . x from any vertex that is not a maximiser, the simplex method's
-// optimality argument), so the answer is exact, plateaus included, provided coplanar faces are merged: quickhull merges
-// them, so no face is reflex beyond its tolerance. Each step strictly increases d . x, so the walk visits a vertex at
-// most once; its cap (the vertex count) can only be reached by a broken mesh or a non-finite direction, and then the
-// linear scan answers instead. A NaN direction compares false everywhere and returns the start vertex: callers reject
-// non-finite directions before (GJK does).
+// polytope a vertex none of whose neighbours is strictly better is a global
+// maximiser (the edge graph of a polytope reaches every vertex along
+// non-decreasing d . x from any vertex that is not a maximiser, the simplex
+// method's optimality argument), so the answer is exact, plateaus included,
+// provided coplanar faces are merged: quickhull merges them, so no face is
+// reflex beyond its tolerance. Each step strictly increases d . x, so the
+// walk visits a vertex at most once; its cap (the vertex count) can only be
+// reached by a broken mesh or a non-finite direction, and then the linear
+// scan answers instead. A NaN direction compares false everywhere and
+// returns the start vertex: callers reject non-finite directions before
+// (GJK does).
 //
 // The crossover (32 vertices with SSE2 lanes, 64 with AVX2's) is measured:
 // docs/design.md, "Support crossover". Where two vertices tie, the scan and
