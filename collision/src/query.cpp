@@ -466,7 +466,7 @@ bool as_sphere_or_capsule(const Shape& shape, const Pose& pose, Shape& out, Pose
     frame.col(0) = e1;
     frame.col(1) = k.cross(e1);
     frame.col(2) = k;
-    out = Capsule{0.5 * length, 0.0, p->margin};
+    out = Capsule{0.0, 0.5 * length, p->margin};
     out_pose = {pose.rotation * frame, pose.apply(h.offset() + 0.5 * (h.vertex(0) + h.vertex(1)))};
     return true;
   }

@@ -221,7 +221,7 @@ TEST(ViewTessellate, EveryShapeIsInscribedAndTightInItsPose) {
   std::mt19937_64 rng(2024);
   const std::vector<collision::Shape> cores = {
       collision::Sphere{0.7, 0.0},        collision::Box{Eigen::Vector3d(0.5, 0.2, 0.9), 0.0},
-      collision::Capsule{0.6, 0.25, 0.0}, collision::Cylinder{0.4, 0.8, 0.0},
+      collision::Capsule{0.25, 0.6, 0.0}, collision::Cylinder{0.4, 0.8, 0.0},
       collision::Cone{0.5, 0.6, 0.0},     collision::Polyhedron{rock(), 0.0},
   };
   const tool::view::TessellationOptions options;  // 32 around, 16 for margins
@@ -278,7 +278,7 @@ TEST(ViewTessellate, PolyhedronIsItsOwnMergedHullMesh) {
 TEST(ViewTessellate, FarFromTheOriginKeepsItsShape) {
   // The hull is taken in the local frame: a translation of 1e6 must not
   // coarsen a 0.1-sized capsule.
-  const collision::Capsule capsule{0.05, 0.02, 0.0};
+  const collision::Capsule capsule{0.02, 0.05, 0.0};
   const collision::Pose pose = collision::Pose::from_translation(Eigen::Vector3d(1e6, -1e6, 1e6));
   const tool::view::TessellatedShape t = tool::view::tessellate(capsule, pose);
   ASSERT_TRUE(t.ok()) << t.error;
@@ -337,7 +337,7 @@ ViewModel demo_scene() {
       {"ground", collision::Box{Eigen::Vector3d(1.6, 1.6, 0.1), 0.0}, turn(0, {0, 0, 1}, {0, 0, -0.1})},
       {"crate", collision::Box{Eigen::Vector3d(0.4, 0.4, 0.4), 0.0}, turn(0.35, {0, 0, 1}, {0, 0, 0.38})},
       {"ball", collision::Sphere{0.3, 0.0}, turn(0, {0, 0, 1}, {1.05, 0.35, 0.55})},
-      {"pill", collision::Capsule{0.3, 0.15, 0.0}, turn(kPi / 2, {1, 0, 0}, {-0.95, 0.55, 0.35})},
+      {"pill", collision::Capsule{0.15, 0.3, 0.0}, turn(kPi / 2, {1, 0, 0}, {-0.95, 0.55, 0.35})},
       {"can", collision::Cylinder{0.25, 0.3, 0.06}, turn(0.2, {1, 1, 0}, {0.35, -1.05, 0.42})},
       {"tip", collision::Cone{0.3, 0.35, 0.0}, turn(0, {0, 0, 1}, {-0.9, -0.85, 0.33})},
       {"rock", collision::Polyhedron{rock_hull, 0.0}, turn(0.5, {0, 1, 1}, {0.55, 0.55, 1.25})},

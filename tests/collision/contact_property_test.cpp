@@ -78,7 +78,8 @@ std::vector<Pair> make_pairs(int per_family) {
   };
   const Maker capsule = [](std::mt19937_64& r, double) -> Shape {
     std::uniform_real_distribution<double> u(0.2, 0.8);
-    return Capsule{u(r), 0.5 * u(r), 0.0};
+    const double half_length = u(r);  // drawn first, as before the field order changed
+    return Capsule{0.5 * u(r), half_length, 0.0};
   };
   const Maker cylinder = [](std::mt19937_64& r, double) -> Shape {
     std::uniform_real_distribution<double> u(0.2, 0.8);
@@ -86,7 +87,8 @@ std::vector<Pair> make_pairs(int per_family) {
   };
   const Maker rounded_capsule = [](std::mt19937_64& r, double m) -> Shape {
     std::uniform_real_distribution<double> u(0.2, 0.8);
-    return Capsule{u(r), 0.5 * u(r), m};
+    const double half_length = u(r);
+    return Capsule{0.5 * u(r), half_length, m};
   };
   const Maker rounded_cylinder = [](std::mt19937_64& r, double m) -> Shape {
     std::uniform_real_distribution<double> u(0.2, 0.8);

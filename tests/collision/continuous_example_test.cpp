@@ -33,7 +33,7 @@ ExampleAnswers continuous_example() {
 
   // A character's capsule (radius 0.3 m, axis 1 m long) swept 2 m down from
   // 1.5 m: its lowest point, 0.7 m up, reaches the plate at t = 0.35.
-  const Capsule character{0.5, 0.3, 0.0};
+  const Capsule character{0.3, 0.5, 0.0};
   const Pose start = Pose::from_translation(Eigen::Vector3d(0.0, 0.0, 1.5));
   out.cast = shape_cast(character, start, Eigen::Vector3d(0.0, 0.0, -2.0), plate, plate_pose, Eigen::Vector3d::Zero());
   std::printf("cast: %s at %.6f, distance %.1e, normal (%g, %g, %g)\n", to_string(out.cast.status), out.cast.fraction,

@@ -136,7 +136,7 @@ std::vector<RayFamily> ray_families(std::mt19937_64& rng) {
   f.push_back({"sphere", Sphere{0.8, 0.2}, 1.0, 0.7});
   f.push_back({"box", Box{Vec(1.0, 0.5, 0.7), 0.0}, 1.4, 0.2});
   f.push_back({"rounded box", Box{Vec(1.0, 0.5, 0.7), 0.1}, 1.5, 0.3});
-  f.push_back({"capsule", Capsule{0.8, 0.5, 0.05}, 1.35, 0.25});
+  f.push_back({"capsule", Capsule{0.5, 0.8, 0.05}, 1.35, 0.25});
   f.push_back({"cylinder", Cylinder{0.6, 0.9, 0.0}, 1.1, 0.3});
   f.push_back({"rounded cylinder", Cylinder{0.6, 0.9, 0.1}, 1.2, 0.4});
   f.push_back({"cone", Cone{0.9, 0.9, 0.0}, 1.3, 0.05});
@@ -230,7 +230,7 @@ TEST(Raycast, ClosedFormsSphereBoxCapsuleCylinder) {
   EXPECT_NEAR(r.fraction, 1.75, 1e-9);
   EXPECT_NEAR((r.normal - Vec(-1, 0, 0)).norm(), 0.0, 1e-6);
   // Capsule: side at x = -radius, cap along the axis.
-  const Capsule capsule{1.0, 0.5, 0.0};
+  const Capsule capsule{0.5, 1.0, 0.0};
   r = raycast(capsule, Pose::identity(), Vec(-5, 0, 0.3), Vec(1, 0, 0), 10.0);
   EXPECT_NEAR(r.fraction, 4.5, 1e-14);
   r = raycast(capsule, Pose::identity(), Vec(0, 0, 5), Vec(0, 0, -1), 10.0);
@@ -485,7 +485,7 @@ std::vector<std::pair<Shape, std::vector<Vec>>> projectiles(std::mt19937_64& rng
   out.push_back({Sphere{size, 0.0}, {}});
   out.push_back({Box{Vec(size, 0.6 * size, 0.8 * size), 0.0}, {}});
   out.push_back({Box{Vec(size, 0.6 * size, 0.8 * size), 0.1 * size}, {}});
-  out.push_back({Capsule{size, 0.5 * size, 0.0}, {}});
+  out.push_back({Capsule{0.5 * size, size, 0.0}, {}});
   out.push_back({Cylinder{0.7 * size, size, 0.0}, {}});
   const std::vector<Vec> points = random_points(rng, 12, size);
   out.push_back({Polyhedron{make_hull(points), 0.05 * size}, points});

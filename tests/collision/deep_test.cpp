@@ -53,7 +53,7 @@ double angle(const Vec& u, const Vec& v) { return std::atan2(u.cross(v).norm(), 
 
 std::vector<Shape> shapes(std::shared_ptr<const ConvexPolyhedron> hull) {
   // Sizes chosen so that no two candidate directions tie exactly.
-  std::vector<Shape> out = {Sphere{0.5, 0.0},          Box{{0.5, 0.37, 0.23}, 0.0}, Capsule{0.33, 0.27, 0.0},
+  std::vector<Shape> out = {Sphere{0.5, 0.0},          Box{{0.5, 0.37, 0.23}, 0.0}, Capsule{0.27, 0.33, 0.0},
                             Cylinder{0.41, 0.53, 0.0}, Cone{0.47, 0.52, 0.0},       Polyhedron{hull, 0.0}};
   const std::size_t n = out.size();
   for (std::size_t i = 0; i < n; ++i) {

@@ -98,7 +98,8 @@ TEST(GjkDistance, CapsuleCapsuleClosedForm) {
   std::uniform_real_distribution<double> len(0.0, 2.0), rad(0.01, 0.5);
   int separated = 0;
   for (int i = 0; i < 2000; ++i) {
-    const Capsule a{len(rng), rad(rng), 0.0}, b{len(rng), rad(rng), i % 4 == 0 ? 0.05 : 0.0};
+    const double la = len(rng), ra = rad(rng), lb = len(rng), rb = rad(rng);  // the seeded draw order
+    const Capsule a{ra, la, 0.0}, b{rb, lb, i % 4 == 0 ? 0.05 : 0.0};
     Pose pa = random_pose(rng, 1.5), pb = random_pose(rng, 1.5);
     if (i % 10 == 0) pb.rotation = pa.rotation;  // parallel segments
     const Vec za = pa.rotation.col(2), zb = pb.rotation.col(2);
@@ -222,7 +223,10 @@ std::vector<Shape> shape_zoo(std::mt19937_64& rng) {
   return {Sphere{ext(rng), 0.0},
           Box{{ext(rng), ext(rng), ext(rng)}, 0.0},
           Box{{ext(rng), ext(rng), ext(rng)}, 0.05},
-          Capsule{ext(rng), ext(rng), 0.0},
+          [&] {  // half length drawn first, as before the field order changed
+            const double half_length = ext(rng);
+            return Capsule{ext(rng), half_length, 0.0};
+          }(),
           Cylinder{ext(rng), ext(rng), 0.0},
           Cone{ext(rng), ext(rng), 0.0},
           Polyhedron{make_hull(random_points(rng, 30, {ext(rng), ext(rng), ext(rng)})), 0.0},
@@ -651,7 +655,7 @@ TEST(GjkHardCases, SmallShapesUnderWideGroundPlatesConverge) {
                                         : Shape(Box{Vec(width, 0.7 * width, 5e-4), 0.0});
         const Shape small = i % 3 == 0   ? Shape(Cone{0.3, 0.5, 0.0})
                             : i % 3 == 1 ? Shape(Cylinder{0.3, 0.5, 0.0})
-                                         : Shape(Capsule{0.5, 0.2, 0.0});
+                                         : Shape(Capsule{0.2, 0.5, 0.0});
         const double gap = 0.1 + 5.0 * (u(rng) + 1.0);
         const Pose pa = Pose::from_translation(Vec(u(rng), u(rng), u(rng)));
         const Eigen::Matrix3d rb =

@@ -66,7 +66,7 @@ TEST(ExactReference, SphereSphereSeparatedAndOverlapping) {
 }
 
 TEST(ExactReference, CapsulesParallelAndCrossed) {
-  const Shape a = Capsule{0.6, 0.1, 0.0}, b = Capsule{0.3, 0.15, 0.0};
+  const Shape a = Capsule{0.1, 0.6, 0.0}, b = Capsule{0.15, 0.3, 0.0};
   // Parallel axes 0.7 apart, shifted along the axis: a segment difference.
   ExactResult r = exact_signed_distance(a, at(Vec::Zero()), b, at(Vec(0.7, 0, 0.4)));
   expect_consistent(r, 1);

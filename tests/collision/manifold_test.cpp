@@ -511,7 +511,7 @@ TEST(Manifold, TheCacheHoldsTheLastFramesFourPointsWithinTheHold) {
 TEST(Manifold, TiltedCapsulePointsLieOnTheCapsule) {
   // Tilted 0.05 rad from lying flat, the lower end 0.06 deep: both ends kept.
   const double tilt = 0.05;
-  const Shape box = Box{{1.0, 1.0, 0.5}}, capsule = Capsule{0.5, 0.2, 0.0};
+  const Shape box = Box{{1.0, 1.0, 0.5}}, capsule = Capsule{0.2, 0.5, 0.0};
   const Pose pc = rotated(Vec::UnitY(), M_PI / 2 - tilt, Vec(0.1, 0.0, 0.5 + 0.2 + 0.5 * std::sin(tilt) - 0.06));
   const ContactResult r = contact(box, Pose::identity(), capsule, pc);
   ASSERT_EQ(r.count, 2);
@@ -541,7 +541,7 @@ TEST(Manifold, TiltedCapsulePointsLieOnTheCapsule) {
 TEST(Manifold, OneEndBallOfAStandingCapsuleGivesOnePoint) {
   const Shape box = Box{{1.0, 1.0, 0.5}};
   for (const double margin : {0.0, 0.03}) {
-    const Shape capsule = Capsule{0.3, 0.2, margin};
+    const Shape capsule = Capsule{0.2, 0.3, margin};
     const double r = 0.2 + margin;
     for (const double tilt : {1e-6, 1e-4, 5e-4, 2e-3, 0.05}) {
       for (const bool upside_down : {false, true}) {
@@ -672,7 +672,7 @@ TEST(Manifold, EdgeAxesThroughADegenerateShapesCentreAreOrientedByTheGaussMap) {
 }
 
 TEST(Manifold, CapsuleLyingOnABoxGivesTwoPoints) {
-  const Shape box = Box{{2.0, 2.0, 1.0}}, capsule = Capsule{0.8, 0.25};
+  const Shape box = Box{{2.0, 2.0, 1.0}}, capsule = Capsule{0.25, 0.8};
   const Pose pc = rotated(Vec::UnitY(), M_PI / 2, Vec(0.1, 0.3, 1.24));  // axis along x, 0.01 deep
   const ContactResult r = contact(box, Pose::identity(), capsule, pc);
   EXPECT_EQ(r.path, ContactPath::segment);
@@ -903,7 +903,7 @@ TEST(Manifold, CachedAxisAnswersAsTheFullTest) {
 TEST(Manifold, QueriesAllocateNothing) {
   std::mt19937_64 rng(3);
   const auto hull = make_hull(random_points(rng, 100, Vec(1, 1, 1)));
-  const Shape shapes[] = {Box{{1, 1, 1}},     Polyhedron{hull}, Capsule{0.5, 0.3},
+  const Shape shapes[] = {Box{{1, 1, 1}},     Polyhedron{hull}, Capsule{0.3, 0.5},
                           Cylinder{0.5, 0.5}, Sphere{0.5},      Cone{0.5, 0.5}};
   const Pose pb = rotated(Vec(1, 2, 3), 0.4, Vec(0.3, 0.2, 1.2));
   ContactCache cache;

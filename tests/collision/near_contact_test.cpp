@@ -245,7 +245,7 @@ TEST(NearContact, CapsuleNearlyParallelToAFaceMatchesItsCoreReference) {
   std::mt19937_64 rng(304);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const Box ground{{2.0, 2.0, 0.5}, 0.0};
-  const Capsule capsule{0.8, 0.25, 0.0};
+  const Capsule capsule{0.25, 0.8, 0.0};
   const double size = std::max(bounding_radius(ground), bounding_radius(capsule));
   double worst = 0.0;
   for (double tilt : kTilts)

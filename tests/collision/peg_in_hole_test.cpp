@@ -62,7 +62,7 @@ PegPair peg_in_hole(std::mt19937_64& rng, int i) {
       break;
     }
     default:
-      p.peg = Capsule{len, w1, peg_margin};
+      p.peg = Capsule{w1, len, peg_margin};
   }
   p.tilt = std::pow(10.0, -10.0 + 8.0 * u(rng));
   p.offset = std::pow(10.0, -9.0 + 6.0 * u(rng));

@@ -241,7 +241,8 @@ TEST(Penetration, CapsuleCapsuleClosedForm) {
   std::uniform_real_distribution<double> len(0.05, 2.0), rad(0.05, 0.8), unit(-1.0, 1.0);
   int penetrating = 0;
   for (int i = 0; i < 2000; ++i) {
-    const Capsule a{len(rng), rad(rng), 0.0}, b{len(rng), rad(rng), i % 4 == 0 ? 0.05 : 0.0};
+    const double la = len(rng), ra = rad(rng), lb = len(rng), rb = rad(rng);  // the seeded draw order
+    const Capsule a{ra, la, 0.0}, b{rb, lb, i % 4 == 0 ? 0.05 : 0.0};
     const Pose pa = random_pose(rng, 1.0), pb = random_pose(rng, 1.0);
     const Vec za = pa.rotation.col(2), zb = pb.rotation.col(2);
     const double core = segment_distance(pa.translation - a.half_length * za, pa.translation + a.half_length * za,
@@ -263,7 +264,8 @@ TEST(Penetration, CapsuleCapsuleClosedForm) {
   // through the origin (depth 0), so the depth is the sum of the radii and
   // the normal is perpendicular to both axes.
   for (int i = 0; i < 200; ++i) {
-    const Capsule a{len(rng), rad(rng), 0.0}, b{len(rng), rad(rng), 0.0};
+    const double la = len(rng), ra = rad(rng), lb = len(rng), rb = rad(rng);  // the seeded draw order
+    const Capsule a{ra, la, 0.0}, b{rb, lb, 0.0};
     const Pose pa = random_pose(rng, 1.0);
     Pose pb = random_pose(rng, 0.0);
     const Vec za = pa.rotation.col(2), zb = pb.rotation.col(2);
@@ -340,7 +342,10 @@ std::vector<Shape> shape_zoo(std::mt19937_64& rng) {
   return {Sphere{ext(rng), 0.0},
           Box{{ext(rng), ext(rng), ext(rng)}, 0.0},
           Box{{ext(rng), ext(rng), ext(rng)}, 0.05},
-          Capsule{ext(rng), ext(rng), 0.0},
+          [&] {  // half length drawn first, as before the field order changed
+            const double half_length = ext(rng);
+            return Capsule{ext(rng), half_length, 0.0};
+          }(),
           Cylinder{ext(rng), ext(rng), 0.0},
           Cone{ext(rng), ext(rng), 0.0},
           Polyhedron{make_hull(random_points(rng, 30, {ext(rng), ext(rng), ext(rng)})), 0.0},
@@ -588,7 +593,7 @@ TEST(PenetrationHardCases, PointAndSegmentHullsAnswerAsBallsAndCapsules) {
     if (segment) {
       const Vec k = (rb * (p1 - p0)).normalized();
       const Pose pc{Eigen::Matrix3d(Eigen::Quaterniond::FromTwoVectors(Vec::UnitZ(), k)), world_centre};
-      e = penetration(big, pa, Capsule{0.5 * (p1 - p0).norm(), 0.0, margin}, pc);
+      e = penetration(big, pa, Capsule{0.0, 0.5 * (p1 - p0).norm(), margin}, pc);
     } else {
       e = penetration(big, pa, Sphere{0.0, margin}, Pose::from_translation(world_centre));
     }
@@ -632,7 +637,7 @@ TEST(PenetrationHardCases, CylinderRestingOnABox) {  // fcl#375
 
 TEST(PenetrationHardCases, ShallowCylinderCapsuleContact) {  // Jolt#2103
   const Cylinder cyl{0.5, 1.0, 0.0};
-  const Capsule cap{0.8, 0.2, 0.0};
+  const Capsule cap{0.2, 0.8, 0.0};
   struct Case {
     Pose pose;
     double depth;

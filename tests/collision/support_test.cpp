@@ -384,7 +384,7 @@ TEST(ShapeValidation, RejectsNegativeAndNonFinite) {
   EXPECT_TRUE(validate(Shape(Sphere{1.0, 0.0})).ok());
   EXPECT_TRUE(validate(Shape(Sphere{0.0, 0.0})).ok());  // a point is a valid sphere
   EXPECT_EQ(validate(Shape(Sphere{-1.0, 0.0})).error, ShapeError::negative_size);
-  EXPECT_EQ(validate(Shape(Capsule{1.0, std::nan(""), 0.0})).error, ShapeError::non_finite);
+  EXPECT_EQ(validate(Shape(Capsule{std::nan(""), 1.0, 0.0})).error, ShapeError::non_finite);
   EXPECT_EQ(validate(Shape(Box{{1.0, -2.0, 1.0}, 0.0})).error, ShapeError::negative_size);
   EXPECT_EQ(validate(Shape(Cylinder{1.0, 1.0, -0.1})).error, ShapeError::negative_margin);
   EXPECT_EQ(validate(Shape(Cone{1.0, INFINITY, 0.0})).error, ShapeError::non_finite);
@@ -398,7 +398,7 @@ TEST(ShapeValidation, CheckWithRadiusAgreesWithValidateAndBoundingRadius) {
   const auto hull = make_hull({{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3}});
   const std::vector<Shape> shapes = {
       Sphere{1.0, 0.5},           Sphere{-1.0, 0.0},        Box{{1.0, 2.0, 3.0}, 0.1},
-      Box{{1.0, -2.0, 1.0}, 0.0}, Capsule{1.0, 0.5, 0.0},   Capsule{1.0, std::nan(""), 0.0},
+      Box{{1.0, -2.0, 1.0}, 0.0}, Capsule{0.5, 1.0, 0.0},   Capsule{std::nan(""), 1.0, 0.0},
       Cylinder{1.0, 2.0, 0.0},    Cylinder{1.0, 1.0, -0.1}, Cone{1.0, 2.0, 0.3},
       Cone{1.0, INFINITY, 0.0},   Polyhedron{hull, 0.25},   Polyhedron{nullptr, 0.0}};
   int valid = 0;
@@ -419,7 +419,7 @@ TEST(ShapeValidation, CheckWithRadiusAgreesWithValidateAndBoundingRadius) {
 TEST(AnalyticSupport, NoSurfaceSampleBeatsTheSupport) {
   std::mt19937_64 rng(5);
   const double r = 0.7, h = 1.3, m = 0.2;
-  const std::vector<Shape> shapes = {Sphere{r, m}, Box{{r, h, 0.4}, m}, Capsule{h, r, m}, Cylinder{r, h, m},
+  const std::vector<Shape> shapes = {Sphere{r, m}, Box{{r, h, 0.4}, m}, Capsule{r, h, m}, Cylinder{r, h, m},
                                      Cone{r, h, m}};
   // Dense samples of each core's boundary; the margin adds m along d.
   auto core_samples = [&](const Shape& s) {

@@ -105,7 +105,7 @@ Pair nearly_coaxial_pair(std::mt19937_64& rng, int i) {
       p.b = Cone{size(), size(), 0.0};
       break;
     default:
-      p.b = Capsule{0.3 * size(), size(), 0.0};
+      p.b = Capsule{size(), 0.3 * size(), 0.0};
   }
   p.tilt = std::pow(10.0, -10.0 + 8.0 * u(rng));
   const Eigen::Matrix3d ra = Eigen::Quaterniond{g(rng), g(rng), g(rng), g(rng)}.normalized().toRotationMatrix();

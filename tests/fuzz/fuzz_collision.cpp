@@ -77,9 +77,11 @@ bool make_shape(hedra::fuzz::FuzzInput& in, Shape& shape) {
       shape = hedra::collision::Box{
           Vec{size_value(in, allow_bad), size_value(in, allow_bad), size_value(in, allow_bad)}, margin};
       return true;
-    case 2:
-      shape = hedra::collision::Capsule{size_value(in, allow_bad), size_value(in, allow_bad), margin};
+    case 2: {
+      const double half_length = size_value(in, allow_bad);  // read first: the corpora's byte order
+      shape = hedra::collision::Capsule{size_value(in, allow_bad), half_length, margin};
       return true;
+    }
     case 3:
       shape = hedra::collision::Cylinder{size_value(in, allow_bad), size_value(in, allow_bad), margin};
       return true;

@@ -212,7 +212,10 @@ Family rounded_shapes() {
   std::mt19937_64 e(13);
   const auto make = [&](int kind) -> Shape {
     if (kind == 0) return Sphere{uniform(e, 0.2, 1.0), 0.0};
-    if (kind == 1) return Capsule{uniform(e, 0.2, 1.0), uniform(e, 0.1, 0.5), 0.0};
+    if (kind == 1) {
+      const double half_length = uniform(e, 0.2, 1.0);  // drawn before the radius
+      return Capsule{uniform(e, 0.1, 0.5), half_length, 0.0};
+    }
     return Cylinder{uniform(e, 0.2, 1.0), uniform(e, 0.2, 1.0), 0.0};
   };
   for (int i = 0; i < 63; ++i) {

@@ -1150,7 +1150,7 @@ std::vector<SceneSpec> make_scenes(const std::vector<Mesh>& meshes) {
 collision::Shape build_shape(const ShapeSpec& s) {
   if (s.type == "sphere") return collision::Sphere{s.radius, s.margin};
   if (s.type == "box") return collision::Box{s.half_extents, s.margin};
-  if (s.type == "capsule") return collision::Capsule{s.half_length, s.radius, s.margin};
+  if (s.type == "capsule") return collision::Capsule{s.radius, s.half_length, s.margin};
   if (s.type == "cylinder") return collision::Cylinder{s.radius, s.half_length, s.margin};
   if (s.type == "cone") return collision::Cone{s.radius, s.half_length, s.margin};
   collision::ConvexPolyhedron::BuildResult built = collision::ConvexPolyhedron::build(s.points);

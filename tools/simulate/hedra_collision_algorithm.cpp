@@ -201,7 +201,7 @@ bool primitive_shape(const btCollisionShape* shape, collision::Shape& out) {
     case CAPSULE_SHAPE_PROXYTYPE: {
       const auto* capsule = static_cast<const btCapsuleShape*>(shape);
       if (capsule->getUpAxis() != 2) return false;
-      out = collision::Capsule{capsule->getHalfHeight(), capsule->getRadius()};
+      out = collision::Capsule{capsule->getRadius(), capsule->getHalfHeight()};
       return true;
     }
     case CYLINDER_SHAPE_PROXYTYPE: {

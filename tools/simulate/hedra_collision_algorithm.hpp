@@ -14,7 +14,7 @@
 //                     box-box detector uses them; its GJK rounds the corners);
 //   btConvexHullShape a ConvexPolyhedron of its scaled points, rounded by the
 //                     margin (built once per Bullet shape and cached);
-//   btSphereShape     Sphere{radius};  btCapsuleShapeZ  Capsule{half height, radius};
+//   btSphereShape     Sphere{radius};  btCapsuleShapeZ  Capsule{radius, half height};
 //   btCylinderShapeZ  Cylinder of the half extents without margin, rounded by it;
 //   btConeShapeZ      Cone{radius, height / 2}, rounded by the margin.
 // ShapeCache::set() gives a Bullet shape another hedra shape (a rounded Box

@@ -65,7 +65,7 @@ std::vector<Shape> projectiles(std::mt19937_64& rng, double size) {
   for (int i = 0; i < 12; ++i) points.emplace_back(u(rng), u(rng), u(rng));
   std::vector<Shape> out = {collision::Sphere{size, 0.0}, collision::Box{Vec(size, 0.6 * size, 0.8 * size), 0.0},
                             collision::Box{Vec(size, 0.6 * size, 0.8 * size), 0.1 * size},
-                            collision::Capsule{size, 0.5 * size, 0.0}, collision::Cylinder{0.7 * size, size, 0.0}};
+                            collision::Capsule{0.5 * size, size, 0.0}, collision::Cylinder{0.7 * size, size, 0.0}};
   const collision::ConvexPolyhedron::BuildResult hull = collision::ConvexPolyhedron::build(points);
   if (hull.ok()) out.push_back(collision::Polyhedron{hull.polyhedron, 0.0});
   return out;

@@ -86,6 +86,14 @@ Body random_poly(Rng& rng) {
 }
 
 Body box(const Vec& half, double margin = 0.0) { return primitive(collision::Box{half, margin}); }
+// A capsule whose half length is drawn before its radius (the families'
+// seeded draws keep their order, so every pair stays the pair it was).
+template <class Draw>
+collision::Capsule capsule_drawn(Draw& r, double h_lo, double h_hi, double r_lo, double r_hi) {
+  const double half_length = r(h_lo, h_hi);
+  const double radius = r(r_lo, r_hi);
+  return collision::Capsule{radius, half_length, 0.0};
+}
 
 // Rotation by `angle` about the unit `axis`.
 Mat about(const Vec& axis, double angle) { return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix(); }
@@ -254,7 +262,7 @@ struct Generator {
         return {primitive(collision::Sphere{0.7, 0.0}), box(Vec(0.8, 0.6, 0.5))};
       case 5:
         label = "capsule and hull";
-        return {primitive(collision::Capsule{0.6, 0.3, 0.0}), random_poly(rng)};
+        return {primitive(collision::Capsule{0.3, 0.6, 0.0}), random_poly(rng)};
       case 6:
         label = "cylinder and box";
         return {primitive(collision::Cylinder{0.5, 0.7, 0.0}), box(Vec(0.8, 0.6, 0.5))};
@@ -422,12 +430,12 @@ struct Generator {
         label = "sphere and box";
         break;
       case 2:
-        a = primitive(collision::Capsule{r(0.2, 1), r(0.1, 0.5), 0});
-        b = primitive(collision::Capsule{r(0.2, 1), r(0.1, 0.5), 0});
+        a = primitive(capsule_drawn(r, 0.2, 1, 0.1, 0.5));
+        b = primitive(capsule_drawn(r, 0.2, 1, 0.1, 0.5));
         label = "capsule and capsule";
         break;
       case 3:
-        a = primitive(collision::Capsule{r(0.2, 1), r(0.1, 0.5), 0});
+        a = primitive(capsule_drawn(r, 0.2, 1, 0.1, 0.5));
         b = box(Vec(r(0.3, 1), r(0.3, 1), r(0.3, 1)));
         label = "capsule and box";
         break;
@@ -437,7 +445,7 @@ struct Generator {
         label = "sphere and hull";
         break;
       case 5:
-        a = primitive(collision::Capsule{r(0.2, 1), r(0.1, 0.5), 0});
+        a = primitive(capsule_drawn(r, 0.2, 1, 0.1, 0.5));
         b = ellipsoid_hull(rng, 24, Vec(r(0.4, 1), r(0.4, 1), r(0.4, 1)), r(0.02, 0.2));
         label = "capsule and rounded hull";
         break;
@@ -485,7 +493,7 @@ struct Generator {
         a = cylinder(), b = primitive(collision::Sphere{r(0.2, 0.8), 0}), label = "cylinder and sphere";
         break;
       case 6:
-        a = cone(), b = primitive(collision::Capsule{r(0.2, 0.8), r(0.1, 0.4), 0}), label = "cone and capsule";
+        a = cone(), b = primitive(capsule_drawn(r, 0.2, 0.8, 0.1, 0.4)), label = "cone and capsule";
         break;
       default:
         a = primitive(collision::Cylinder{r(0.3, 0.8), r(0.3, 0.8), r(0.02, 0.2)});

@@ -77,8 +77,8 @@ struct Box {
 };
 
 struct Capsule {
-  double half_length = 0.0;
   double radius = 0.0;
+  double half_length = 0.0;
   double margin = 0.0;
 };
 
