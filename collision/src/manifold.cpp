@@ -5,8 +5,13 @@
 #include <cmath>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/hull/mesh_edit.hpp>
+#include <limits>
 #include <new>
+#include <cstdio>
+#include <cstdlib>
 #include <type_traits>
+
+#include "face_certificate.hpp"
 
 namespace hedra::collision {
 
@@ -949,6 +954,62 @@ std::size_t axis_facet(const PolytopePair& pp, const SatAxis& axis, std::array<V
   return count;
 }
 
+// D's support point along u: B's along u minus A's along -u. `far_a`,
+// `far_b`: the supports' climb starts on the far sides, kept apart from the
+// near sides' so neither climb crosses a hull.
+Vec far_apex(const PolytopePair& pp, const Vec& u, Index& far_a, Index& far_b) {
+  const Index near_a = pp.pa.hint, near_b = pp.pb.hint;
+  if (far_a < pp.pa.mesh->vertex_count()) pp.pa.hint = far_a;
+  if (far_b < pp.pb.mesh->vertex_count()) pp.pb.hint = far_b;
+  const Vec apex =
+      pp.placed_b.point(pp.pb.vertex(pp.pb.support(pp.rel.rotation.transpose() * u))) - pp.pa.vertex(pp.pa.support(-u));
+  far_a = pp.pa.hint;
+  far_b = pp.pb.hint;
+  pp.pa.hint = near_a;
+  pp.pb.hint = near_b;
+  return apex;
+}
+
+// The face axis's facet of D as the points b - a of the reference face's
+// vertices and the incident face's vertices within tol / 2 of the support
+// level along the axis (face_certificate.hpp); false when they do not fit.
+bool minkowski_facet(const PolytopePair& pp, const SatAxis& axis, double tol, detail::FacetPoints& out) {
+  const bool of_a = axis.kind == SatAxisKind::face_a;
+  const SatPolytope& ref = of_a ? pp.pa : pp.pb;
+  const SatPolytope& inc = of_a ? pp.pb : pp.pa;
+  const Placement& ref_place = of_a ? pp.identity : pp.placed_b;
+  const Placement& inc_place = of_a ? pp.placed_b : pp.identity;
+  const Index face = of_a ? axis.feature_a : axis.feature_b;
+  const Vec out_of_ref = of_a ? axis.normal : Vec(-axis.normal);
+  const Index inc_face = incident_face(inc, inc_place, out_of_ref);
+  if (inc_face == hull::kInvalidIndex) return false;
+  const hull::HalfEdgeMesh& rm = *ref.mesh;
+  const hull::HalfEdgeMesh& im = *inc.mesh;
+  const std::size_t ref_degree = rm.face_degree(face), inc_degree = im.face_degree(inc_face);
+  if (ref_degree > detail::kFacetCapacity || inc_degree > detail::kFacetCapacity) return false;
+  // The incident face's vertices at the support level (lowest along the
+  // reference's outward normal).
+  std::array<Vec, detail::kFacetCapacity> low;
+  std::array<double, detail::kFacetCapacity> height;
+  std::size_t low_count = 0;
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const Index e : im.face_edges(inc_face)) {
+    low[low_count] = inc_place.point(inc.vertex(im.origin(e)));
+    height[low_count] = out_of_ref.dot(low[low_count]);
+    lowest = std::min(lowest, height[low_count++]);
+  }
+  std::size_t kept = 0;
+  for (std::size_t j = 0; j < low_count; ++j)
+    if (height[j] <= lowest + 0.5 * tol) low[kept++] = low[j];
+  if (kept * ref_degree > detail::kFacetCapacity) return false;
+  out.count = 0;
+  for (const Index e : rm.face_edges(face)) {
+    const Vec r = ref_place.point(ref.vertex(rm.origin(e)));
+    for (std::size_t j = 0; j < kept; ++j) out.p[out.count++] = of_a ? Vec(low[j] - r) : Vec(r - low[j]);
+  }
+  return true;
+}
+
 // True when the separation s of the facet (count points of D in the plane
 // u . x = s, polygon order) is certified to be SAT's largest within tol
 // (see above).
@@ -970,16 +1031,7 @@ bool facet_is_exact(const PolytopePair& pp, const std::array<Vec, kClipCapacity>
     }
     return true;
   }
-  // D's support point along u: B's along u minus A's along -u.
-  const Index near_a = pp.pa.hint, near_b = pp.pb.hint;
-  if (far_a < pp.pa.mesh->vertex_count()) pp.pa.hint = far_a;
-  if (far_b < pp.pb.mesh->vertex_count()) pp.pb.hint = far_b;
-  const Vec apex =
-      pp.placed_b.point(pp.pb.vertex(pp.pb.support(pp.rel.rotation.transpose() * u))) - pp.pa.vertex(pp.pa.support(-u));
-  far_a = pp.pa.hint;
-  far_b = pp.pb.hint;
-  pp.pa.hint = near_a;
-  pp.pb.hint = near_b;
+  const Vec apex = far_apex(pp, u, far_a, far_b);
   const Vec inside = 0.5 * (centroid + apex);
   const double need = -s - tol;
   for (std::size_t k = 0; k < count; ++k) {
@@ -1129,6 +1181,24 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, &exact, cache, settings, ContactStats{}, limit);
 }
 
+// The cached axis certified exact within tol at the new poses: a face axis
+// by its Minkowski facet (face_certificate.hpp: a body resting face on face
+// has the two faces' sum as its facet), else (an edge pair, or a facet too
+// large) by `facet`, the support vertex's.
+bool axis_is_exact(const PolytopePair& pp, const SatAxis& axis, const std::array<Vec, kClipCapacity>& facet,
+                   std::size_t count, double tol, ContactCache& cache) {
+  if (axis.kind != SatAxisKind::edge && count > 0) {
+    detail::FacetPoints points;
+    if (minkowski_facet(pp, axis, tol, points)) {
+      const Vec apex = axis.separation < 0.0 ? far_apex(pp, axis.normal, cache.far_a, cache.far_b) : Vec(Vec::Zero());
+      const bool ok = detail::facet_certifies(points, axis.normal, axis.separation, tol, apex);
+      if (getenv("HC_DEBUG")) fprintf(stderr, "cert kind %d s %g count %zu ok %d\n", int(axis.kind), axis.separation, points.count, ok);
+      return ok;
+    }
+  }
+  return facet_is_exact(pp, facet, count, axis.normal, axis.separation, tol, cache.far_a, cache.far_b);
+}
+
 // What the last frame learned: the cached axis (a face, or an edge pair)
 // re-measured at the new poses, before any search.
 //   * Separated beyond the contact distance along it: answered from that
@@ -1157,6 +1227,7 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
     axis = cached_edge_axis(pp, *cache, settings, band, facet);
     count = 4;
   }
+  if (getenv("HC_DEBUG")) fprintf(stderr, "cache axis %d -> %d s %g\n", int(cache->axis), int(axis.kind), axis.separation);
   if (axis.kind == SatAxisKind::none) return false;
   ContactStats hit;
   hit.cache_hit = true;
@@ -1166,7 +1237,15 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
     out = separated_along(pp, world, axis, hit);
     return true;
   }
-  if (!facet_is_exact(pp, facet, count, axis.normal, axis.separation, band, cache->far_a, cache->far_b)) return false;
+  // A face axis with the cores overlapping or touching is kept while it is
+  // certified within choose_axis's bias of SAT's largest separation (no
+  // challenger could beat it: the axis a cold query keeps, up to another
+  // face of the same shape within the bias); an edge axis, or cores apart
+  // (the manifold then follows their exact normal), within the band.
+  const bool biased = axis.kind != SatAxisKind::edge && axis.separation <= band;
+  const double tol =
+      biased ? settings.relative_bias * std::abs(axis.separation) + settings.absolute_bias * pp.scale : band;
+  if (!axis_is_exact(pp, axis, facet, count, tol, *cache)) return false;
   out.stats = hit;
   if (pp.ra + pp.rb > 0.0 && axis.separation > 0.0) {
     if (!(axis.separation > band)) return false;
@@ -1176,7 +1255,7 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
   }
   if (axis.kind != SatAxisKind::edge) {
     out = build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, axis, nullptr, cache, settings, hit,
-                         axis.separation + 2.0 * band);
+                         axis.separation + tol + band);
     return true;
   }
   const AxisCandidates c{face_near(pp, axis.normal, true), face_near(pp, axis.normal, false), axis};
