@@ -8,18 +8,20 @@
 // the facet is the Minkowski sum of the two faces (large), and the origin
 // lies well inside it; taking one support vertex instead (a translate of the
 // reference face) leaves the origin near or outside its rim and the axis was
-// never certified. The caller passes the points b_j - a_i of the reference
-// face's vertices and of the incident face's vertices within tol / 2 of the
-// support level (so every point lies at height in [s, s + tol / 2] along u),
-// and D's support point along u (the apex). Then
-//   * s >= 0: when the origin's projection lies inside the 2D hull of the
-//     points projected along u, some point of conv(points), inside D, lies
-//     at distance <= s + tol / 2: the distance is at most that;
-//   * s < 0: every point is moved toward the apex onto the plane of the
-//     highest one (still in D: D is convex), their 2D hull with the apex
-//     makes a pyramid inside D, and when each of its side planes and its
-//     base lie at least |s| - tol from the origin, the depth is at least
-//     that.
+// never certified. The caller passes two convex polygons whose sums p + q
+// are points of D: B's and A's sides of the facet (the reference face's
+// vertices, and the incident face's within tol / 2 of the support level), so
+// every sum lies at a height along u in [s, s + tol / 2]. Seen along u their
+// sum is the 2D Minkowski sum M (merged edge by edge, O(n + m)). Then
+//   * s >= 0: when the origin's projection lies inside M, some point of D
+//     lies at distance <= s + tol / 2: the distance is at most that;
+//   * s < 0: every sum moved toward D's support point along u (the apex)
+//     onto the plane of the highest stays in D (D is convex) and moves
+//     sideways by at most delta; when each side plane of the pyramid of M
+//     (at that height) and the apex lies at least |s| - tol + delta from the
+//     origin, and its base at least |s| - tol, the pyramid of the moved
+//     points (inside D) holds the ball of radius |s| - tol: the depth is at
+//     least that.
 // Either way no axis separates by more than s + tol, so the axis is the one
 // a cold query chooses (manifold.cpp's choose_axis: a challenger must beat
 // the incumbent by the bias, >= tol). Fixed buffers, no allocation.
@@ -30,94 +32,127 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <limits>
 #include <hedra/hull/assert.hpp>
+#include <limits>
 
 namespace hedra::collision::detail {
 
-inline constexpr std::size_t kFacetCapacity = 256;
+inline constexpr std::size_t kFacetCapacity = 128;
 
-// Points of D near the facet plane (heights along u within [s, s + tol / 2]).
-struct FacetPoints {
+// One side of the facet: a convex polygon in order (either orientation), 3D.
+struct FacetSide {
   std::array<Eigen::Vector3d, kFacetCapacity> p;
   std::size_t count = 0;
 };
 
-// The 2D convex hull (counter-clockwise about u, Andrew's monotone chain) of
-// the points' coordinates (x, y) in a frame orthogonal to u; writes the
-// hull's indices into `hull` and returns their count (0 when fewer than 3
-// points span an area).
-inline std::size_t planar_hull(const std::array<Eigen::Vector2d, kFacetCapacity>& q, std::size_t count,
-                               std::array<std::size_t, kFacetCapacity + 1>& hull) {
-  if (count < 3) return 0;
-  std::array<std::size_t, kFacetCapacity> order;
-  for (std::size_t i = 0; i < count; ++i) order[i] = i;
-  std::sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(count), [&](std::size_t i, std::size_t j) {
-    return q[i].x() < q[j].x() || (q[i].x() == q[j].x() && q[i].y() < q[j].y());
-  });
-  const auto cross = [&](std::size_t o, std::size_t a, std::size_t b) {
-    return (q[a] - q[o]).x() * (q[b] - q[o]).y() - (q[a] - q[o]).y() * (q[b] - q[o]).x();
-  };
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < count; ++i) {  // lower chain
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], order[i]) <= 0.0) --k;
-    hull[k++] = order[i];
-  }
-  for (std::size_t i = count - 1, lower = k + 1; i-- > 0;) {  // upper chain
-    while (k >= lower && cross(hull[k - 2], hull[k - 1], order[i]) <= 0.0) --k;
-    hull[k++] = order[i];
-  }
-  return k >= 4 ? k - 1 : 0;  // the last point repeats the first
+// The 2D Minkowski sum of two convex polygons given counter-clockwise
+// (x, y), with each vertex's height (the sum of the summands' heights):
+// out holds at most n + m vertices, counter-clockwise.
+struct PlanarSum {
+  std::array<Eigen::Vector2d, 2 * kFacetCapacity> xy;
+  std::array<double, 2 * kFacetCapacity> height;
+  std::size_t count = 0;
+};
+
+inline std::size_t lowest_vertex(const Eigen::Vector2d* q, std::size_t n) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < n; ++i)
+    if (q[i].y() < q[best].y() || (q[i].y() == q[best].y() && q[i].x() < q[best].x())) best = i;
+  return best;
 }
 
-// True when the face axis (unit u, separation s <= the points' heights) is
+inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+inline void minkowski_sum(const Eigen::Vector2d* p, const double* hp, std::size_t n, const Eigen::Vector2d* q,
+                          const double* hq, std::size_t m, PlanarSum& out) {
+  const std::size_t i0 = lowest_vertex(p, n), j0 = lowest_vertex(q, m);
+  std::size_t i = 0, j = 0;
+  out.count = 0;
+  while ((i < n || j < m) && out.count < out.xy.size()) {
+    const std::size_t a = (i0 + i) % n, b = (j0 + j) % m;
+    out.xy[out.count] = p[a] + q[b];
+    out.height[out.count++] = hp[a] + hq[b];
+    const Eigen::Vector2d ep = p[(a + 1) % n] - p[a], eq = q[(b + 1) % m] - q[b];
+    const double turn = cross2(ep, eq);
+    if (i == n)
+      ++j;
+    else if (j == m)
+      ++i;
+    else if (turn > 0.0)
+      ++i;
+    else if (turn < 0.0)
+      ++j;
+    else {
+      ++i;
+      ++j;
+    }
+  }
+}
+
+// The side's polygon seen along u (frame e1, e2), counter-clockwise, and
+// its heights; false when it spans no area (then the sum is no polygon).
+inline bool planar_side(const FacetSide& side, const Eigen::Vector3d& u, const Eigen::Vector3d& e1,
+                        const Eigen::Vector3d& e2, std::array<Eigen::Vector2d, kFacetCapacity>& xy,
+                        std::array<double, kFacetCapacity>& h) {
+  const std::size_t n = side.count;
+  double area = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    xy[i] = {e1.dot(side.p[i]), e2.dot(side.p[i])};
+    h[i] = u.dot(side.p[i]);
+  }
+  for (std::size_t i = 0; i < n; ++i) area += cross2(xy[i], xy[(i + 1) % n]);
+  if (area < 0.0) {
+    std::reverse(xy.begin(), xy.begin() + static_cast<std::ptrdiff_t>(n));
+    std::reverse(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(n));
+  }
+  return n == 1 || n == 2 || area != 0.0;
+}
+
+// True when the face axis (unit u, separation s <= every sum's height) is
 // certified to be SAT's largest within tol (see the top of the file).
 // `apex`: D's support point along u (only read when s < 0).
-inline bool facet_certifies(const FacetPoints& facet, const Eigen::Vector3d& u, double s, double tol,
-                            const Eigen::Vector3d& apex) {
+inline bool facet_certifies(const FacetSide& first, const FacetSide& second, const Eigen::Vector3d& u, double s,
+                            double tol, const Eigen::Vector3d& apex) {
   using Vec = Eigen::Vector3d;
   HEDRA_ASSERT(std::abs(u.squaredNorm() - 1.0) <= 1e-9);
-  if (facet.count < 3 || facet.count > kFacetCapacity) return false;
+  if (first.count == 0 || second.count == 0 || first.count + second.count < 3) return false;
   const Vec e1 = (std::abs(u.x()) < 0.6 ? Vec::UnitX() : Vec::UnitY()).cross(u).normalized();
-  const Vec e2 = u.cross(e1);
-  std::array<Eigen::Vector2d, kFacetCapacity> q;
-  std::array<std::size_t, kFacetCapacity + 1> hull;
+  const Vec e2 = u.cross(e1);  // (e1, e2, u) right-handed: counter-clockwise seen from +u
+  std::array<Eigen::Vector2d, kFacetCapacity> xy1, xy2;
+  std::array<double, kFacetCapacity> h1, h2;
+  if (!planar_side(first, u, e1, e2, xy1, h1) || !planar_side(second, u, e1, e2, xy2, h2)) return false;
+  PlanarSum sum;
+  minkowski_sum(xy1.data(), h1.data(), first.count, xy2.data(), h2.data(), second.count, sum);
+  if (sum.count < 3) return false;
   double top = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < facet.count; ++i) top = std::max(top, u.dot(facet.p[i]));
+  for (std::size_t k = 0; k < sum.count; ++k) top = std::max(top, sum.height[k]);
   if (!(top <= s + tol)) return false;
-  if (s >= 0.0) {
-    for (std::size_t i = 0; i < facet.count; ++i) q[i] = {e1.dot(facet.p[i]), e2.dot(facet.p[i])};
-    const std::size_t n = planar_hull(q, facet.count, hull);
-    if (n < 3) return false;
-    for (std::size_t k = 0; k < n; ++k) {  // the origin's projection (0, 0) on the left of every edge
-      const Eigen::Vector2d a = q[hull[k]], b = q[hull[k + 1 == n ? 0 : k + 1]];
-      if ((b - a).x() * (-a).y() - (b - a).y() * (-a).x() < 0.0) return false;
+  if (s >= 0.0) {  // the origin's projection inside M
+    for (std::size_t k = 0; k < sum.count; ++k) {
+      const Eigen::Vector2d& a = sum.xy[k];
+      if (cross2(sum.xy[(k + 1) % sum.count] - a, -a) < 0.0) return false;
     }
     return true;
   }
-  // Moved toward the apex onto the plane u . x = top.
-  const double apex_height = u.dot(apex);
-  std::array<Vec, kFacetCapacity> lifted;
-  for (std::size_t i = 0; i < facet.count; ++i) {
-    const Vec& p = facet.p[i];
-    const double h = u.dot(p), rise = apex_height - h;
-    if (!(rise > 0.0)) return false;
-    lifted[i] = p + ((top - h) / rise) * (apex - p);
-    q[i] = {e1.dot(lifted[i]), e2.dot(lifted[i])};
-  }
-  const std::size_t n = planar_hull(q, facet.count, hull);
-  if (n < 3) return false;
   const double need = -s - tol;  // the ball's radius
   if (!(-top >= need)) return false;
-  for (std::size_t k = 0; k < n; ++k) {
-    const Vec& p = lifted[hull[k]];
-    const Vec& r = lifted[hull[k + 1 == n ? 0 : k + 1]];
-    // Counter-clockwise about u seen from above, the apex above: (r - p) x
-    // (apex - p) points outward.
+  const double apex_height = u.dot(apex);
+  const Eigen::Vector2d apex_xy(e1.dot(apex), e2.dot(apex));
+  double reach = 0.0;  // the largest sideways distance from the apex
+  for (std::size_t k = 0; k < sum.count; ++k) reach = std::max(reach, (sum.xy[k] - apex_xy).norm());
+  if (!(apex_height > top)) return false;
+  const double delta = (top - s) / (apex_height - top) * reach;
+  for (std::size_t k = 0; k < sum.count; ++k) {
+    const Eigen::Vector2d& a = sum.xy[k];
+    const Eigen::Vector2d& b = sum.xy[(k + 1) % sum.count];
+    const Vec p = a.x() * e1 + a.y() * e2 + top * u;
+    const Vec r = b.x() * e1 + b.y() * e2 + top * u;
+    // Counter-clockwise seen from +u, the apex above: (r - p) x (apex - p)
+    // points outward.
     const Vec side = (r - p).cross(apex - p);
     const double len = side.norm();
     if (!(len > 0.0)) return false;
-    if (!(side.dot(p) >= need * len)) return false;  // the origin at least `need` inside this side
+    if (!(side.dot(p) >= (need + delta) * len)) return false;  // the origin that far inside this side
   }
   return true;
 }

@@ -7,8 +7,6 @@
 #include <hedra/hull/mesh_edit.hpp>
 #include <limits>
 #include <new>
-#include <cstdio>
-#include <cstdlib>
 #include <type_traits>
 
 #include "face_certificate.hpp"
@@ -261,7 +259,7 @@ double exit_distance(const SatPolytope& poly, const Placement& place, Index f, c
   auto slab = [&](Index g) {
     const Vec n = place.direction(poly.plane(g).normal);
     const double nd = n.dot(d);
-    if (!(nd > 0.0)) return;
+    if (!(nd > 0.0)) return false;
     const Vec c = place.point(poly.vertex(m.origin(m.faces[g].edge)));
     const double ts = (n.dot(c - p) + r) / nd;
     const Vec foot = p + ts * d - r * n;
@@ -270,10 +268,31 @@ double exit_distance(const SatPolytope& poly, const Placement& place, Index f, c
       const Vec side = (place.point(poly.vertex(m.destination(e))) - a).cross(n);
       // The foot leaves face g (an edge or a vertex holds the exit), or it
       // overflowed (d almost along g's plane: no exit through g's slab).
-      if (!(side.dot(foot - a) <= 0.0)) return;
+      if (!(side.dot(foot - a) <= 0.0)) return false;
     }
     t = std::max(t, ts);
+    return true;
   };
+  // The common case first: the exit through face f's own slab, its foot
+  // inside f, is a point at distance r from the core (its closest point the
+  // foot), on the grown core's boundary: the ray, starting inside that
+  // convex set, leaves it there and nowhere else.
+  if (slab(f)) return t;
+  // At a vertex of f with d in its normal cone (no neighbour higher along
+  // d: the vertex is the core's support point along d, convexity), the
+  // point r along d is r from the core: the exit is r.
+  for (const Index e : m.face_edges(f)) {
+    const Index v = m.origin(e);
+    if (place.point(poly.vertex(v)) != p) continue;
+    bool highest = true;
+    for (const Index out : m.vertex_outgoing(v))
+      if (d.dot(place.point(poly.vertex(m.destination(out))) - p) > 0.0) {
+        highest = false;
+        break;
+      }
+    if (highest) return r;
+    break;
+  }
   // Each face around the face's vertices once (a face shares several of
   // them; past the buffer, repeats are harmless).
   std::array<Index, 64> seen;
@@ -970,10 +989,12 @@ Vec far_apex(const PolytopePair& pp, const Vec& u, Index& far_a, Index& far_b) {
   return apex;
 }
 
-// The face axis's facet of D as the points b - a of the reference face's
-// vertices and the incident face's vertices within tol / 2 of the support
-// level along the axis (face_certificate.hpp); false when they do not fit.
-bool minkowski_facet(const PolytopePair& pp, const SatAxis& axis, double tol, detail::FacetPoints& out) {
+// The face axis's facet of D as two polygons whose sums are points b - a:
+// B's side and A's negated, one the reference face's vertices, the other
+// the incident face's within tol / 2 of the support level along the axis
+// (face_certificate.hpp); false when they do not fit.
+bool minkowski_facet(const PolytopePair& pp, const SatAxis& axis, double tol, detail::FacetSide& b_side,
+                     detail::FacetSide& a_side) {
   const bool of_a = axis.kind == SatAxisKind::face_a;
   const SatPolytope& ref = of_a ? pp.pa : pp.pb;
   const SatPolytope& inc = of_a ? pp.pb : pp.pa;
@@ -985,28 +1006,27 @@ bool minkowski_facet(const PolytopePair& pp, const SatAxis& axis, double tol, de
   if (inc_face == hull::kInvalidIndex) return false;
   const hull::HalfEdgeMesh& rm = *ref.mesh;
   const hull::HalfEdgeMesh& im = *inc.mesh;
-  const std::size_t ref_degree = rm.face_degree(face), inc_degree = im.face_degree(inc_face);
-  if (ref_degree > detail::kFacetCapacity || inc_degree > detail::kFacetCapacity) return false;
+  if (rm.face_degree(face) > detail::kFacetCapacity || im.face_degree(inc_face) > detail::kFacetCapacity) return false;
+  detail::FacetSide& ref_side = of_a ? a_side : b_side;
+  detail::FacetSide& inc_side = of_a ? b_side : a_side;
+  const double sign_ref = of_a ? -1.0 : 1.0;  // A's side enters negated
+  ref_side.count = 0;
+  for (const Index e : rm.face_edges(face)) ref_side.p[ref_side.count++] = sign_ref * ref_place.point(ref.vertex(rm.origin(e)));
   // The incident face's vertices at the support level (lowest along the
-  // reference's outward normal).
-  std::array<Vec, detail::kFacetCapacity> low;
+  // reference's outward normal), in the face's order.
   std::array<double, detail::kFacetCapacity> height;
-  std::size_t low_count = 0;
+  inc_side.count = 0;
   double lowest = std::numeric_limits<double>::infinity();
   for (const Index e : im.face_edges(inc_face)) {
-    low[low_count] = inc_place.point(inc.vertex(im.origin(e)));
-    height[low_count] = out_of_ref.dot(low[low_count]);
-    lowest = std::min(lowest, height[low_count++]);
+    const Vec x = inc_place.point(inc.vertex(im.origin(e)));
+    height[inc_side.count] = out_of_ref.dot(x);
+    lowest = std::min(lowest, height[inc_side.count]);
+    inc_side.p[inc_side.count++] = -sign_ref * x;
   }
   std::size_t kept = 0;
-  for (std::size_t j = 0; j < low_count; ++j)
-    if (height[j] <= lowest + 0.5 * tol) low[kept++] = low[j];
-  if (kept * ref_degree > detail::kFacetCapacity) return false;
-  out.count = 0;
-  for (const Index e : rm.face_edges(face)) {
-    const Vec r = ref_place.point(ref.vertex(rm.origin(e)));
-    for (std::size_t j = 0; j < kept; ++j) out.p[out.count++] = of_a ? Vec(low[j] - r) : Vec(r - low[j]);
-  }
+  for (std::size_t j = 0; j < inc_side.count; ++j)
+    if (height[j] <= lowest + 0.5 * tol) inc_side.p[kept++] = inc_side.p[j];
+  inc_side.count = kept;
   return true;
 }
 
@@ -1188,12 +1208,10 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
 bool axis_is_exact(const PolytopePair& pp, const SatAxis& axis, const std::array<Vec, kClipCapacity>& facet,
                    std::size_t count, double tol, ContactCache& cache) {
   if (axis.kind != SatAxisKind::edge && count > 0) {
-    detail::FacetPoints points;
-    if (minkowski_facet(pp, axis, tol, points)) {
+    detail::FacetSide b_side, a_side;
+    if (minkowski_facet(pp, axis, tol, b_side, a_side)) {
       const Vec apex = axis.separation < 0.0 ? far_apex(pp, axis.normal, cache.far_a, cache.far_b) : Vec(Vec::Zero());
-      const bool ok = detail::facet_certifies(points, axis.normal, axis.separation, tol, apex);
-      if (getenv("HC_DEBUG")) fprintf(stderr, "cert kind %d s %g count %zu ok %d\n", int(axis.kind), axis.separation, points.count, ok);
-      return ok;
+      return detail::facet_certifies(b_side, a_side, axis.normal, axis.separation, tol, apex);
     }
   }
   return facet_is_exact(pp, facet, count, axis.normal, axis.separation, tol, cache.far_a, cache.far_b);
@@ -1227,7 +1245,6 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
     axis = cached_edge_axis(pp, *cache, settings, band, facet);
     count = 4;
   }
-  if (getenv("HC_DEBUG")) fprintf(stderr, "cache axis %d -> %d s %g\n", int(cache->axis), int(axis.kind), axis.separation);
   if (axis.kind == SatAxisKind::none) return false;
   ContactStats hit;
   hit.cache_hit = true;
