@@ -17,6 +17,8 @@
 //     tolerance plus the reported error bounds, and so do the signed
 //     penetration distances; intersect agrees with them away from touching;
 //   - ok answers keep point_b - point_a = distance * normal and a unit normal;
+//   - cached frames: contact() and penetration() warm over two nearby
+//     frames agree with cold ones (contact: within the face bias);
 //   - contact(): at most four points, every point and depth finite; when it
 //     and penetration() both answer ok, it says intersecting when the pair
 //     is deeper than the face bias of manifold.hpp, and a separation it
@@ -372,6 +374,48 @@ void check_casts(const Shape& a, const Pose& pose_a, const Shape& b, const Pose&
 
 }  // namespace
 
+
+// Cached frames: contact() and penetration() carried over two frames with
+// their caches (B turned by 1e-5 rad about the motion's axis and moved by
+// 1e-5 of the size along it in between), the warm answers checked against
+// cold ones at the same poses: the same invariants, and a warm manifold's
+// distance within the face bias (a cached face kept while certified within
+// it, manifold.hpp; each one's deepest point within it of its axis) of the
+// cold one's when both overlap.
+void check_cached_frames(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, const Motion& motion,
+                         double tol, double size_scale) {
+  hedra::collision::ContactCache contact_cache;
+  hedra::collision::GjkCache gjk_cache;
+  const hedra::collision::ContactSettings settings;
+  Pose next = pose_b;
+  next.rotation = Eigen::AngleAxisd(1e-5, motion.axis).toRotationMatrix() * pose_b.rotation;
+  next.translation += 1e-5 * size_scale * motion.axis;
+  const Pose* frames[] = {&pose_b, &next};
+  for (const Pose* frame : frames) {
+    const hedra::collision::ContactResult warm = contact(a, pose_a, b, *frame, &contact_cache);
+    const hedra::collision::ContactResult cold = contact(a, pose_a, b, *frame);
+    const hedra::collision::PenetrationResult p_warm = penetration(a, pose_a, b, *frame, &gjk_cache);
+    const hedra::collision::PenetrationResult p_cold = penetration(a, pose_a, b, *frame);
+    HEDRA_FUZZ_CHECK(warm.count >= 0 && warm.count <= hedra::collision::kMaxContactPoints, "warm contact count %d",
+                     warm.count);
+    HEDRA_FUZZ_CHECK(std::isfinite(warm.distance) && finite(warm.normal) && finite(warm.point_a) && finite(warm.point_b),
+                     "warm contact: non-finite output (status %s)", to_string(warm.status));
+    for (int k = 0; k < warm.count; ++k)
+      HEDRA_FUZZ_CHECK(finite(warm.points[k].point) && std::isfinite(warm.points[k].depth),
+                       "warm contact point %d non-finite", k);
+    HEDRA_FUZZ_CHECK((warm.status == Status::invalid_input) == (cold.status == Status::invalid_input),
+                     "warm contact status %s, cold %s", to_string(warm.status), to_string(cold.status));
+    const double bias = settings.relative_bias * std::fabs(cold.distance) + settings.absolute_bias * 2.0 * size_scale;
+    if (warm.status == Status::ok && cold.status == Status::ok && warm.intersecting && cold.intersecting &&
+        warm.path != hedra::collision::ContactPath::single_point && cold.path != hedra::collision::ContactPath::single_point)
+      HEDRA_FUZZ_CHECK(std::fabs(warm.distance - cold.distance) <= 2.0 * bias + tol,
+                       "warm contact distance %.17g, cold %.17g (bias %.3g)", warm.distance, cold.distance, bias);
+    if (p_warm.status == Status::ok && p_cold.status == Status::ok)
+      HEDRA_FUZZ_CHECK(std::fabs(p_warm.distance - p_cold.distance) <= tol + p_warm.error_bound + p_cold.error_bound,
+                       "warm penetration %.17g, cold %.17g", p_warm.distance, p_cold.distance);
+  }
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   hedra::fuzz::FuzzInput in(data, size);
   Shape a, b;
@@ -536,5 +580,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       HEDRA_FUZZ_CHECK(c_ab.intersecting, "contact says apart at depth %.17g (contact distance %.17g)", -p_ab.distance,
                        c_ab.distance);
   }
+  check_cached_frames(a, pose_a, b, pose_b, motion, tol, size_scale);
   return 0;
 }
