@@ -138,10 +138,11 @@ inline bool facet_certifies(const FacetSide& first, const FacetSide& second, con
   if (!(-top >= need)) return false;
   const double apex_height = u.dot(apex);
   const Eigen::Vector2d apex_xy(e1.dot(apex), e2.dot(apex));
-  double reach = 0.0;  // the largest sideways distance from the apex
-  for (std::size_t k = 0; k < sum.count; ++k) reach = std::max(reach, (sum.xy[k] - apex_xy).norm());
+  double reach2 = 0.0;  // the largest sideways distance from the apex, squared
+  for (std::size_t k = 0; k < sum.count; ++k) reach2 = std::max(reach2, (sum.xy[k] - apex_xy).squaredNorm());
   if (!(apex_height > top)) return false;
-  const double delta = (top - s) / (apex_height - top) * reach;
+  const double delta = (top - s) / (apex_height - top) * std::sqrt(reach2);
+  const double margin = need + delta;
   for (std::size_t k = 0; k < sum.count; ++k) {
     const Eigen::Vector2d& a = sum.xy[k];
     const Eigen::Vector2d& b = sum.xy[(k + 1) % sum.count];
@@ -150,9 +151,10 @@ inline bool facet_certifies(const FacetSide& first, const FacetSide& second, con
     // Counter-clockwise seen from +u, the apex above: (r - p) x (apex - p)
     // points outward.
     const Vec side = (r - p).cross(apex - p);
-    const double len = side.norm();
-    if (!(len > 0.0)) return false;
-    if (!(side.dot(p) >= (need + delta) * len)) return false;  // the origin that far inside this side
+    const double inside = side.dot(p);  // the origin's distance inside this side, times |side|
+    const bool holds = margin > 0.0 ? inside > 0.0 && inside * inside >= margin * margin * side.squaredNorm()
+                                    : inside >= margin * std::sqrt(side.squaredNorm());
+    if (!holds) return false;
   }
   return true;
 }

@@ -407,7 +407,14 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
   }
   Vec* src = buffer_a.data();
   Vec* dst = buffer_b.data();
-  for (std::size_t k = 0; k < side_count && count > 0; ++k) {
+  // An incident polygon inside every side plane (by half the tolerance, far
+  // beyond the planes' renormalisation in clip_polygon) is its own clipping:
+  // clip_polygon would copy it unchanged, in order (a resting body smaller
+  // than the face it rests on).
+  bool inside = true;
+  for (std::size_t k = 0; k < side_count && inside; ++k)
+    for (std::size_t i = 0; i < count && inside; ++i) inside = sides[k].signed_distance(src[i]) <= 0.5 * tolerance;
+  for (std::size_t k = 0; k < side_count && count > 0 && !inside; ++k) {
     const hull::ClipResult r = hull::clip_polygon(src, count, sides[k], dst, kClipCapacity, tolerance);
     if (r.status != hull::ClipStatus::ok) return false;
     count = r.count;
@@ -1205,14 +1212,16 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
 // by its Minkowski facet (face_certificate.hpp: a body resting face on face
 // has the two faces' sum as its facet), else (an edge pair, or a facet too
 // large) by `facet`, the support vertex's.
-bool axis_is_exact(const PolytopePair& pp, const SatAxis& axis, const std::array<Vec, kClipCapacity>& facet,
+bool axis_is_exact(const PolytopePair& pp, const SatAxis& axis, std::array<Vec, kClipCapacity>& facet,
                    std::size_t count, double tol, ContactCache& cache) {
-  if (axis.kind != SatAxisKind::edge && count > 0) {
+  if (axis.kind != SatAxisKind::edge) {
+    if (axis.separation > pp.core_contact) return false;
     detail::FacetSide b_side, a_side;
     if (minkowski_facet(pp, axis, tol, b_side, a_side)) {
       const Vec apex = axis.separation < 0.0 ? far_apex(pp, axis.normal, cache.far_a, cache.far_b) : Vec(Vec::Zero());
       return detail::facet_certifies(b_side, a_side, axis.normal, axis.separation, tol, apex);
     }
+    count = axis_facet(pp, axis, facet);
   }
   return facet_is_exact(pp, facet, count, axis.normal, axis.separation, tol, cache.far_a, cache.far_b);
 }
@@ -1240,7 +1249,6 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
     const bool of_a = cache->axis == SatAxisKind::face_a;
     if (cache->feature >= (of_a ? pp.pa.mesh->face_count() : pp.pb.mesh->face_count())) return false;
     axis = sat_face_axis(pp.pa, pp.pb, pp.rel, of_a, cache->feature);
-    if (axis.separation <= pp.core_contact) count = axis_facet(pp, axis, facet);
   } else if (cache->axis == SatAxisKind::edge) {
     axis = cached_edge_axis(pp, *cache, settings, band, facet);
     count = 4;
