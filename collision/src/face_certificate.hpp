@@ -108,11 +108,37 @@ inline bool planar_side(const FacetSide& side, const Eigen::Vector3d& u, const E
   return n == 1 || n == 2 || area != 0.0;
 }
 
+// Every k-th vertex of a side, at most `most` of them: still a convex
+// polygon in order whose sums with the other side are points of D (the
+// certificate over a subset holds for the whole), at a cost independent of
+// a large face's degree.
+inline void thin_side(const FacetSide& side, std::size_t most, FacetSide& out) {
+  const std::size_t step = (side.count + most - 1) / most;
+  out.count = 0;
+  for (std::size_t i = 0; i < side.count; i += step) out.p[out.count++] = side.p[i];
+}
+
+inline bool facet_certifies_all(const FacetSide& first, const FacetSide& second, const Eigen::Vector3d& u, double s,
+                                double tol, const Eigen::Vector3d& apex);
+
 // True when the face axis (unit u, separation s <= every sum's height) is
-// certified to be SAT's largest within tol (see the top of the file).
+// certified to be SAT's largest within tol (see the top of the file):
+// first with each side thinned to 12 vertices (large faces), then whole.
 // `apex`: D's support point along u (only read when s < 0).
 inline bool facet_certifies(const FacetSide& first, const FacetSide& second, const Eigen::Vector3d& u, double s,
                             double tol, const Eigen::Vector3d& apex) {
+  constexpr std::size_t kThin = 12;
+  if (first.count > kThin || second.count > kThin) {
+    FacetSide a, b;
+    thin_side(first, kThin, a);
+    thin_side(second, kThin, b);
+    if (facet_certifies_all(a, b, u, s, tol, apex)) return true;
+  }
+  return facet_certifies_all(first, second, u, s, tol, apex);
+}
+
+inline bool facet_certifies_all(const FacetSide& first, const FacetSide& second, const Eigen::Vector3d& u, double s,
+                                double tol, const Eigen::Vector3d& apex) {
   using Vec = Eigen::Vector3d;
   HEDRA_ASSERT(std::abs(u.squaredNorm() - 1.0) <= 1e-9);
   if (first.count == 0 || second.count == 0 || first.count + second.count < 3) return false;

@@ -407,14 +407,20 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
   }
   Vec* src = buffer_a.data();
   Vec* dst = buffer_b.data();
-  // An incident polygon inside every side plane (by half the tolerance, far
-  // beyond the planes' renormalisation in clip_polygon) is its own clipping:
-  // clip_polygon would copy it unchanged, in order (a resting body smaller
-  // than the face it rests on).
-  bool inside = true;
-  for (std::size_t k = 0; k < side_count && inside; ++k)
-    for (std::size_t i = 0; i < count && inside; ++i) inside = sides[k].signed_distance(src[i]) <= 0.5 * tolerance;
-  for (std::size_t k = 0; k < side_count && count > 0 && !inside; ++k) {
+  // A side plane with the whole incident polygon behind it (its bounding
+  // ball, by half the tolerance: far beyond the plane's renormalisation in
+  // clip_polygon) clips nothing: clip_polygon would copy the polygon
+  // unchanged, in order, so it is skipped (a resting body smaller than the
+  // face it rests on skips them all). The clipped polygon stays inside the
+  // ball of the unclipped one.
+  Vec centre = Vec::Zero();
+  for (std::size_t i = 0; i < count; ++i) centre += src[i];
+  centre /= static_cast<double>(std::max<std::size_t>(count, 1));
+  double radius = 0.0;
+  for (std::size_t i = 0; i < count; ++i) radius = std::max(radius, (src[i] - centre).squaredNorm());
+  radius = std::sqrt(radius) * (1.0 + 1e-12);
+  for (std::size_t k = 0; k < side_count && count > 0; ++k) {
+    if (sides[k].signed_distance(centre) + radius <= 0.5 * tolerance) continue;
     const hull::ClipResult r = hull::clip_polygon(src, count, sides[k], dst, kClipCapacity, tolerance);
     if (r.status != hull::ClipStatus::ok) return false;
     count = r.count;
@@ -479,7 +485,8 @@ bool face_contact(const SatPolytope& ref, const Placement& ref_place, const SatP
   };
   std::array<std::size_t, kMaxContactPoints> keep{};
   int kept = reduce(below, u, ties, keep);
-  if (ties.last && below.size > static_cast<std::size_t>(kMaxContactPoints))
+  // (hold 0, the default: the cold choice, as documented; no ids to match.)
+  if (ties.last && ties.hold > 0.0 && below.size > static_cast<std::size_t>(kMaxContactPoints))
     kept = hold_last(below, u, ties, id_of, keep, kept);
   for (int i = 0; i < kept; ++i) {
     const Vec p = below[keep[i]].on_b;
