@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/manifold.hpp>
+#include <hedra/hull/assert.hpp>
 #include <hedra/hull/mesh_edit.hpp>
 #include <limits>
 #include <new>
 #include <type_traits>
 
 #include "face_certificate.hpp"
+#include "segment_box.hpp"
 
 namespace hedra::collision {
 
@@ -541,35 +543,7 @@ void round_along(CandidateList& c, const Vec& along, bool ref_is_a, const SatPol
   }
 }
 
-// Closest points of segments p0 + s u and q0 + t v, s, t in [0, 1]
-// (Ericson, Real-Time Collision Detection, 5.1.9, with guarded divisions).
-void closest_segment_points(const Vec& p0, const Vec& u, const Vec& q0, const Vec& v, Vec& on_p, Vec& on_q) {
-  const Vec r = p0 - q0;
-  const double a = u.squaredNorm(), e = v.squaredNorm(), f = v.dot(r);
-  double s = 0.0, t = 0.0;
-  if (a <= 0.0 && e <= 0.0) {
-  } else if (a <= 0.0) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = u.dot(r);
-    if (e <= 0.0) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = u.dot(v), denom = a * e - b * b;
-      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  on_p = p0 + s * u;
-  on_q = q0 + t * v;
-}
+using detail::closest_segment_points;
 
 template <class T>
 constexpr bool is_polytope_v = std::is_same_v<T, Box> || std::is_same_v<T, Polyhedron>;
@@ -1617,6 +1591,37 @@ ContactPath curved_candidates(const SatPolytope& pa, Index f, const Vec& n, cons
   }
 }
 
+// penetration()'s point for the pair; for a box against a capsule whose
+// segment misses the box's core by more than the touching band, the same
+// point in closed form (segment_box.hpp: the closest points of the segment
+// and the box, exact where GJK iterates to its tolerance), the capsule's
+// radius and the box's margin taken off along their normal.
+template <class SA, class SB>
+ContactResult curved_first_point(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b,
+                                 const SB& b, const Pose& pose_b, ContactCache* cache,
+                                 const ContactSettings& settings) {
+  if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Capsule>) {
+    const RelativePose rel = relative_pose(pose_a, core_offset(a), pose_b, core_offset(b));
+    const Vec axis = rel.rotation.col(2);
+    const double scale = std::max(bounding_radius(shape_a), bounding_radius(shape_b));
+    detail::SegmentBoxClosest c;
+    if (detail::segment_box_closest(rel.translation - b.half_length * axis, rel.translation + b.half_length * axis,
+                                    a.half_extents, settings.penetration.touching_band * scale, c)) {
+      const WorldFrame world{pose_a, core_offset(a)};
+      const Vec n = (c.on_segment - c.on_box) / c.distance;
+      HEDRA_ASSERT(std::abs(n.squaredNorm() - 1.0) <= 1e-12);
+      PenetrationResult p;
+      p.distance = c.distance - core_radius(a) - core_radius(b);
+      p.intersecting = p.distance <= 0.0;
+      p.normal = world.direction(n);
+      p.point_a = world.point(c.on_box + core_radius(a) * n);
+      p.point_b = world.point(c.on_segment - core_radius(b) * n);
+      return penetration_point(p, scale, settings);
+    }
+  }
+  return single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+}
+
 // A polytope A against a capsule, cylinder or cone B. The manifold is built
 // around penetration()'s normal n: the face of A within the angle
 // tolerance of n is the reference, and B's cap or side line is clipped by
@@ -1629,7 +1634,7 @@ ContactPath curved_candidates(const SatPolytope& pa, Index f, const Vec& n, cons
 template <class SA, class SB>
 ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
                              const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
-  ContactResult first = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+  ContactResult first = curved_first_point(shape_a, a, pose_a, shape_b, b, pose_b, cache, settings);
   if (first.count == 0 || first.status != Status::ok) return first;
   BoxPolytopeStorage storage;
   SatPolytope pa;

@@ -24,6 +24,8 @@
 // warm, bullet, bullet_polyhedral) and one family, and run under
 //   valgrind --tool=callgrind --toggle-collect='*timed_query*' build/bin/resting_contact_benchmark ...
 // (the program prints the number of calls; Ir / calls is the figure).
+// `--answers FILE` writes every cold answer instead of timing (two builds'
+// files, compared, show which answers moved).
 #include <time.h>
 
 #include <algorithm>
@@ -171,6 +173,26 @@ struct Row {
   std::string algorithm;
 };
 
+// Every cold answer of the family, one line a frame (--answers FILE): two
+// builds' files compared line by line show which answers moved and by how
+// much.
+void write_answers(std::FILE* out, const std::string& name, const std::string& motion,
+                   const std::vector<Trajectory>& ts, int frames) {
+  for (std::size_t i = 0; i < ts.size(); ++i)
+    for (int f = 0; f < frames; ++f) {
+      const ContactResult r = contact(ts[i].a, ts[i].pose_a, ts[i].b, ts[i].pose_b[f]);
+      std::fprintf(out, "%s/%s %zu %d %s %s %d %.17g %.17g %.17g %.17g %.17g", name.c_str(), motion.c_str(), i, f,
+                   to_string(r.status), to_string(r.path), r.count, ts[i].size, r.distance, r.normal.x(), r.normal.y(),
+                   r.normal.z());
+      for (int k = 0; k < r.count; ++k)
+        std::fprintf(out, " %.17g %.17g %.17g %.17g", r.points[k].point.x(), r.points[k].point.y(),
+                     r.points[k].point.z(), r.points[k].depth);
+      std::fprintf(out, "\n");
+    }
+}
+
+std::FILE* g_answers = nullptr;
+
 void run_family(const std::string& name, const std::string& motion, int pairs, int frames, int repetitions,
                 const std::string& callgrind) {
   std::vector<Trajectory> ts;
@@ -183,6 +205,10 @@ void run_family(const std::string& name, const std::string& motion, int pairs, i
   }
   const std::size_t n = ts.size();
   std::vector<ContactCache> caches(n);
+  if (g_answers) {
+    write_answers(g_answers, name, motion, ts, frames);
+    return;
+  }
   if (!callgrind.empty()) {
     long calls = 0;
     for (int f = 0; f < frames; ++f)
@@ -249,6 +275,14 @@ int main(int argc, char** argv) {
       callgrind = argv[++i];
       continue;
     }
+    if (std::strcmp(argv[i], "--answers") == 0 && i + 1 < argc) {
+      g_answers = std::fopen(argv[++i], "w");
+      if (!g_answers) {
+        std::fprintf(stderr, "resting_contact_benchmark: cannot write %s\n", argv[i]);
+        return 2;
+      }
+      continue;
+    }
     args.push_back(argv[i]);
   }
   const int pairs = args.size() > 0 ? std::atoi(args[0].c_str()) : 8;
@@ -265,7 +299,7 @@ int main(int argc, char** argv) {
                             "rounded_box_hull24", "sphere_box", "sphere_hull",    "capsule_box",
                             "capsule_hull",  "cylinder_box",   "cylinder_hull"};
   const char* motions[] = {"still", "sliding", "settling"};
-  if (callgrind.empty())
+  if (callgrind.empty() && !g_answers)
     std::printf(
         "| pair (B on A) | motion | hedra cold ns | warm ns | cold/warm | cache hits | Bullet cold / warm ns | "
         "Bullet polyhedral cold / warm ns | hedra warm / best Bullet warm | Bullet's algorithm | max abs(warm - cold) "
@@ -280,5 +314,6 @@ int main(int argc, char** argv) {
       run_family(family, motion, pairs, frames, repetitions, callgrind);
     }
   }
+  if (g_answers) std::fclose(g_answers);
   return 0;
 }
