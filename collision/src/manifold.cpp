@@ -1189,20 +1189,22 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, &exact, cache, settings, ContactStats{}, limit);
 }
 
-// The cached axis certified exact within tol at the new poses: a face axis
-// by its Minkowski facet (face_certificate.hpp: a body resting face on face
-// has the two faces' sum as its facet), else (an edge pair, or a facet too
-// large) by `facet`, the support vertex's.
+// The cached axis certified exact within tol at the new poses: an edge pair
+// by `facet`; a face axis by the support vertex's facet, else by its
+// Minkowski facet (face_certificate.hpp: a body resting face on face has
+// the two faces' sum as its facet, whose rim the origin lies far from).
 bool axis_is_exact(const PolytopePair& pp, const SatAxis& axis, std::array<Vec, kClipCapacity>& facet,
                    std::size_t count, double tol, ContactCache& cache) {
   if (axis.kind != SatAxisKind::edge) {
     if (axis.separation > pp.core_contact) return false;
-    detail::FacetSide b_side, a_side;
-    if (minkowski_facet(pp, axis, tol, b_side, a_side)) {
-      const Vec apex = axis.separation < 0.0 ? far_apex(pp, axis.normal, cache.far_a, cache.far_b) : Vec(Vec::Zero());
-      return detail::facet_certifies(b_side, a_side, axis.normal, axis.separation, tol, apex);
-    }
+    // The support vertex's facet first (cheap: the reference face's
+    // translate); the two faces' sum when it does not suffice.
     count = axis_facet(pp, axis, facet);
+    if (facet_is_exact(pp, facet, count, axis.normal, axis.separation, tol, cache.far_a, cache.far_b)) return true;
+    detail::FacetSide b_side, a_side;
+    if (!minkowski_facet(pp, axis, tol, b_side, a_side)) return false;
+    const Vec apex = axis.separation < 0.0 ? far_apex(pp, axis.normal, cache.far_a, cache.far_b) : Vec(Vec::Zero());
+    return detail::facet_certifies(b_side, a_side, axis.normal, axis.separation, tol, apex);
   }
   return facet_is_exact(pp, facet, count, axis.normal, axis.separation, tol, cache.far_a, cache.far_b);
 }
