@@ -4,7 +4,8 @@
 // frame, back and forth), or settling (rocking on an edge, 0.05 rad
 // decaying to flat), every frame placed by penetration() (outside any
 // timing). Pairs: hull on hull (slab hulls: points on an ellipsoid with a
-// flat top and bottom, 8 to 1,000 points), hull on box, box on hull, rounded
+// flat top and bottom, 8 to 1,000 points; equal_hull: B a copy of A, its
+// corners over A's rim), hull on box, box on hull, rounded
 // (margin 0.05), and spheres, capsules (lying) and cylinders (standing) on
 // boxes and hulls. No box-box pair: those have their own detector.
 //
@@ -100,6 +101,9 @@ Family make_family(const std::string& name, std::uint64_t seed) {
   } else if (base.rfind("hull_box", 0) == 0) {  // a box on a hull
     f.a = slab_hull(rng, number(base), Vec(1.0, 0.9, 1.0), 0.3, margin);
     f.b = Box{Vec(0.3, 0.25, 0.2), margin};
+  } else if (base.rfind("equal_hull", 0) == 0) {  // two hulls of one shape, B's corners over A's rim
+    f.a = slab_hull(rng, number(base), Vec(1.0, 0.9, 1.0), 0.3, margin);
+    f.b = f.a;
   } else {  // hull on hull
     f.a = slab_hull(rng, number(base), Vec(1.0, 0.9, 1.0), 0.3, margin);
     f.b = slab_hull(rng, number(base), Vec(0.6, 0.5, 0.6), 0.2, margin);
@@ -294,7 +298,7 @@ int main(int argc, char** argv) {
                          "[--callgrind cold|warm|bullet|bullet_polyhedral]\n");
     return 2;
   }
-  const char* families[] = {"hull8",         "hull24",         "hull200",         "hull1000",
+  const char* families[] = {"hull8",         "hull24",         "equal_hull24",    "hull200",         "hull1000",
                             "rounded_hull24", "box_hull24",    "box_hull200",     "hull_box200",
                             "rounded_box_hull24", "sphere_box", "sphere_hull",    "capsule_box",
                             "capsule_hull",  "cylinder_box",   "cylinder_hull"};

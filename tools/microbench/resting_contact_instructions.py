@@ -14,7 +14,7 @@ import subprocess
 import sys
 import tempfile
 
-FAMILIES = ["hull8", "hull24", "hull200", "hull1000", "rounded_hull24", "box_hull24", "box_hull200", "hull_box200",
+FAMILIES = ["hull8", "hull24", "equal_hull24", "hull200", "hull1000", "rounded_hull24", "box_hull24", "box_hull200", "hull_box200",
             "rounded_box_hull24", "sphere_box", "sphere_hull", "capsule_box", "capsule_hull", "cylinder_box",
             "cylinder_hull"]
 MOTIONS = ["still", "sliding", "settling"]

@@ -99,10 +99,16 @@
 //     that axis alone (separated; the distance a lower bound, as SAT's);
 //   * otherwise certified exact when it is (manifold.cpp: the origin's foot
 //     inside the axis's facet of the Minkowski difference, or the ball of
-//     the depth inside the pyramid of that facet and a support point): the
+//     the depth inside the pyramid of that facet and a support point; a
+//     face's facet is the reference face against the other shape's support
+//     vertex, or against its incident face's vertices at the support level
+//     when that alone does not certify: a body resting face on face): the
 //     axis a cold query would choose, so the manifold is built from it
 //     without SAT or GJK/EPA (an edge pair still meets the faces about its
-//     axis through the bias);
+//     axis through the bias). A face with the cores overlapping or touching
+//     is certified within the bias (relative_bias |s| + absolute_bias size,
+//     choose_axis's: no challenger could beat it); an edge pair, or cores
+//     apart, within the touching band;
 //   * otherwise the full search runs, and a cached reference face of B that
 //     is still B's candidate stays the incumbent (the reference face does
 //     not swap while the same faces touch).
@@ -113,8 +119,10 @@
 //     1e-6 to 1e-4 of the size a frame, and the cold choice would swap its
 //     points every few frames.
 // Warm answers equal cold ones but for that kept face of B (within the
-// bias), the held points (the deepest within the hold) and ties (two axes
-// exact to rounding: the same distance).
+// bias), a cached face kept while another face of the same shape
+// separates by less than the bias more (a cold query takes that one), the
+// held points (the deepest within the
+// hold) and ties (two axes exact to rounding: the same distance).
 // tests/collision/frame_coherence_test.cpp checks it on moving pairs.
 #pragma once
 
