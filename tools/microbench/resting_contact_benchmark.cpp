@@ -85,7 +85,8 @@ Family make_family(const std::string& name, std::uint64_t seed) {
   Family f;
   f.name = name;
   const Box plate{Vec(1.0, 1.0, 0.25), margin};
-  const std::string base = name.substr(0, name.find('/'));
+  std::string base = name.substr(0, name.find('/'));
+  if (base.rfind("rounded_", 0) == 0) base = base.substr(8);  // the margin is set above
   if (base.rfind("sphere", 0) == 0 || base.rfind("capsule", 0) == 0 || base.rfind("cylinder", 0) == 0) {
     f.a = base.find("_box") != std::string::npos ? Shape(plate)
                                                  : Shape(slab_hull(rng, 200, Vec(1.0, 0.9, 1.0), 0.3, margin));
