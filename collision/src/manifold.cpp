@@ -181,6 +181,8 @@ void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b,
   } else {
     out.count = reduce(c, normal, ties, keep);
   }
+  HEDRA_ASSERT(out.count >= 0 && out.count <= kMaxContactPoints);
+  HEDRA_ASSERT(std::abs(normal.squaredNorm() - 1.0) <= 1e-9);  // manifold.hpp: a unit normal
   out.normal = world.direction(normal);
   for (int k = 0; k < out.count; ++k) {
     const Candidate& x = c[keep[k]];
