@@ -257,19 +257,25 @@ double segment_exit(const Vec& p, const Vec& d, const Vec& a, const Vec& b, doub
 // about r) only face f, its edges, its vertices and the faces around them
 // can hold that exit; at least r (p is on the core), exactly r when d is
 // in the core's normal cone at p.
-double exit_distance(const SatPolytope& poly, const Placement& place, Index f, const Vec& p, const Vec& d, double r) {
+double exit_distance(const SatPolytope& poly, const Placement& place, Index f, const Vec& p_in, const Vec& d_in,
+                     double r) {
   const hull::HalfEdgeMesh& m = *poly.mesh;
+  // In poly's own frame (the exit is the same in any frame): no vertex,
+  // plane or normal placed per test.
+  const Vec p = place.rotation.transpose() * (p_in - place.translation);
+  const Vec d = place.rotation.transpose() * d_in;
   double t = r;
+  double t_f = std::numeric_limits<double>::infinity();  // the exit from f's slab (a bound: the grown core lies in it)
   auto slab = [&](Index g) {
-    const Vec n = place.direction(poly.plane(g).normal);
+    const Vec& n = poly.plane(g).normal;
     const double nd = n.dot(d);
     if (!(nd > 0.0)) return false;
-    const Vec c = place.point(poly.vertex(m.origin(m.faces[g].edge)));
-    const double ts = (n.dot(c - p) + r) / nd;
+    const double ts = (poly.plane(g).offset - n.dot(p) + r) / nd;
+    if (g == f) t_f = ts;
     const Vec foot = p + ts * d - r * n;
     for (const Index e : m.face_edges(g)) {
-      const Vec a = place.point(poly.vertex(m.origin(e)));
-      const Vec side = (place.point(poly.vertex(m.destination(e))) - a).cross(n);
+      const Vec& a = poly.vertex(m.origin(e));
+      const Vec side = (poly.vertex(m.destination(e)) - a).cross(n);
       // The foot leaves face g (an edge or a vertex holds the exit), or it
       // overflowed (d almost along g's plane: no exit through g's slab).
       if (!(side.dot(foot - a) <= 0.0)) return false;
@@ -287,16 +293,23 @@ double exit_distance(const SatPolytope& poly, const Placement& place, Index f, c
   // point r along d is r from the core: the exit is r.
   for (const Index e : m.face_edges(f)) {
     const Index v = m.origin(e);
-    if (place.point(poly.vertex(v)) != p) continue;
+    if (place.point(poly.vertex(v)) != p_in) continue;
     bool highest = true;
     for (const Index out : m.vertex_outgoing(v))
-      if (d.dot(place.point(poly.vertex(m.destination(out))) - p) > 0.0) {
+      if (d.dot(poly.vertex(m.destination(out)) - poly.vertex(v)) > 0.0) {
         highest = false;
         break;
       }
     if (highest) return r;
     break;
   }
+  // Where the exit's closest point on the core lies: within reach of p. The
+  // projection onto the core is 1-Lipschitz and keeps p + s n_f at p (n_f
+  // is in the normal cone at every point of f), and the exit lies at most
+  // t_f along d, so that point is within t_f |d - n_f| of p (plus p's own
+  // rounding off f): a piece whose feature lies farther holds no exit. A
+  // direction tilted 1e-6 rad off the face leaves only the pieces at p.
+  const double reach = t_f * (d - poly.plane(f).normal).norm() + 1e-6 * r;  // infinite when d leaves f's side
   // Each face around the face's vertices once (a face shares several of
   // them; past the buffer, repeats are harmless).
   std::array<Index, 64> seen;
@@ -308,10 +321,18 @@ double exit_distance(const SatPolytope& poly, const Placement& place, Index f, c
     return true;
   };
   for (const Index e : m.face_edges(f)) {
-    const Vec a = place.point(poly.vertex(m.origin(e)));
-    t = std::max(t, segment_exit(p, d, a, place.point(poly.vertex(m.destination(e))), r));
-    for (const Index g : m.vertex_faces(m.origin(e)))
-      if (first_visit(g)) slab(g);
+    const Vec& a = poly.vertex(m.origin(e));
+    const Vec& b = poly.vertex(m.destination(e));
+    const Vec ab = b - a;
+    const double along = ab.squaredNorm() > 0.0 ? std::clamp(ab.dot(p - a) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+    if (!((a + along * ab - p).norm() > reach)) t = std::max(t, segment_exit(p, d, a, b, r));
+    // The faces around a that can come within reach of p: p near a, or
+    // near an edge of f at a (both of whose faces are around its other end
+    // too, visited from there when p is near it).
+    if (!((a - p).norm() - ab.norm() > reach))
+      for (const Index g : m.vertex_faces(m.origin(e)))
+        // p's distance to g's plane (p inside the core) within reach.
+        if (g != f && poly.plane(g).offset - poly.plane(g).normal.dot(p) <= reach && first_visit(g)) slab(g);
   }
   return t;
 }
