@@ -1,0 +1,510 @@
+// Closed-form queries of a halfspace against every shape (halfspace.hpp).
+//
+// Everything runs in B's local frame: the halfspace's world normal n goes to
+// u = R_b^T n, and a core point p of B (local) is g(p) = u . p + s0 - r above
+// the surface, s0 = n . (t_b - t_a) - margin_a taken once (differences of
+// translations first, so bodies far from the origin lose nothing of their
+// size). The candidates are a fixed list per shape (at most ten; a
+// polyhedron's vertices are read in place), so nothing is allocated.
+//
+// Invariants: the deepest candidate is B's exact support in -n (asserted in
+// debug builds against support()); every returned depth is -g of its own
+// point; at most four points.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <hedra/collision/halfspace.hpp>
+#include <hedra/collision/support.hpp>
+#include <hedra/collision/vector_math.hpp>
+#include <hedra/hull/assert.hpp>
+#include <limits>
+#include <variant>
+
+namespace hedra::collision {
+
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kUnitTolerance = 1e-6;
+
+// The pair, measured once.
+struct Frame {
+  Eigen::Vector3d n;          // world unit normal (A toward B)
+  Eigen::Vector3d u;          // n in B's local frame
+  double s0 = 0.0;            // g(p) = u . p + s0 - rounding
+  double rounding = 0.0;      // B's radius around its core
+  double size = 0.0;          // B's bounding radius
+  double rounding_error = 0.0;  // bound on the rounding of g
+};
+
+Frame make_frame(const Halfspace& h, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
+  Frame f;
+  const Eigen::Vector3d local = h.normal / h.normal.norm();
+  f.n = pose_a.rotation * local;
+  f.n /= f.n.norm();
+  f.u = pose_b.rotation.transpose() * f.n;
+  const Eigen::Vector3d between = pose_b.translation - pose_a.translation;
+  f.s0 = dot3(f.n, between) - h.margin;
+  f.size = bounding_radius(b);
+  f.rounding = std::visit(
+      [](const auto& s) {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Sphere> || std::is_same_v<S, Capsule>) return s.radius + s.margin;
+        return s.margin;
+      },
+      b);
+  f.rounding_error = 16.0 * kEps * (between.cwiseAbs().sum() + f.size + h.margin);
+  return f;
+}
+
+bool inputs_valid(const Halfspace& h, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
+  if (!is_valid(h) || !pose_a.valid() || !pose_b.valid()) return false;
+  double radius = 0.0;
+  if (!is_valid(b, radius)) return false;
+  // The pair's extent (query.hpp's rule): B's size or its distance to the plane.
+  const double gap = std::abs(dot3(pose_a.rotation * h.normal, pose_b.translation - pose_a.translation));
+  const double extent = std::max(radius, gap);
+  return extent == 0.0 || extent >= min_pair_extent;
+}
+
+struct Candidate {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();  // B's core point, local frame
+  double g = 0.0;                               // its gap above the surface
+  FeatureId id;
+};
+
+FeatureId feature(FeatureKind kind, std::uint32_t clip, std::uint32_t incident) {
+  FeatureId id;
+  id.kind = kind;
+  id.reference = 0;
+  id.clip = clip;
+  id.incident = incident;
+  return id;
+}
+
+// The candidates of every shape but a polyhedron (whose vertices are read in
+// place), at most ten.
+struct CandidateList {
+  std::array<Candidate, 10> items;
+  int count = 0;
+  void add(const Frame& f, const Eigen::Vector3d& p, FeatureId id) {
+    items[count++] = {p, dot3(f.u, p) + f.s0 - f.rounding, id};
+  }
+};
+
+// A disc's rim at height z: +x, -x, +y, -y, then the deepest rim point
+// (along -u's projection; the +x point when u is along the axis).
+void add_rim(const Frame& f, double radius, double z, std::uint32_t cap, CandidateList& list) {
+  list.add(f, {radius, 0.0, z}, feature(FeatureKind::cap, cap, 0));
+  list.add(f, {-radius, 0.0, z}, feature(FeatureKind::cap, cap, 1));
+  list.add(f, {0.0, radius, z}, feature(FeatureKind::cap, cap, 2));
+  list.add(f, {0.0, -radius, z}, feature(FeatureKind::cap, cap, 3));
+  const double w = accurate_hypot(f.u.x(), f.u.y());
+  const Eigen::Vector3d deepest =
+      w > 0.0 ? Eigen::Vector3d(-radius * (f.u.x() / w), -radius * (f.u.y() / w), z) : Eigen::Vector3d(radius, 0, z);
+  list.add(f, deepest, feature(FeatureKind::cap, cap, 4));
+}
+
+struct ListCandidates {
+  const CandidateList& list;
+  int count() const { return list.count; }
+  Candidate at(int i) const { return list.items[i]; }
+  int find(const FeatureId& id) const {
+    for (int i = 0; i < list.count; ++i)
+      if (list.items[i].id == id) return i;
+    return -1;
+  }
+};
+
+// A polyhedron's vertices, read in place.
+struct HullCandidates {
+  const ConvexPolyhedron& hull;
+  const Frame& f;
+  double base;  // s0 + u . offset - rounding
+  int count() const { return static_cast<int>(hull.vertex_count()); }
+  Candidate at(int i) const {
+    const Eigen::Vector3d& v = hull.vertex(static_cast<hull::Index>(i));
+    return {v + hull.offset(), dot3(f.u, v) + base, feature(FeatureKind::face_vertex, hull::kInvalidIndex,
+                                                             static_cast<std::uint32_t>(i))};
+  }
+  int find(const FeatureId& id) const {
+    return id.kind == FeatureKind::face_vertex && id.incident < hull.vertex_count() ? static_cast<int>(id.incident)
+                                                                                     : -1;
+  }
+};
+
+void build_list(const Frame& f, const Shape& b, CandidateList& list) {
+  if (const auto* s = std::get_if<Sphere>(&b)) {
+    (void)s;
+    list.add(f, Eigen::Vector3d::Zero(), feature(FeatureKind::single, hull::kInvalidIndex, 0));
+  } else if (const auto* box = std::get_if<Box>(&b)) {
+    const Eigen::Vector3d& e = box->half_extents;
+    for (std::uint32_t k = 0; k < 8; ++k)
+      list.add(f, {(k & 1) ? e.x() : -e.x(), (k & 2) ? e.y() : -e.y(), (k & 4) ? e.z() : -e.z()},
+               feature(FeatureKind::face_vertex, hull::kInvalidIndex, k));
+  } else if (const auto* capsule = std::get_if<Capsule>(&b)) {
+    list.add(f, {0.0, 0.0, -capsule->half_length}, feature(FeatureKind::segment, hull::kInvalidIndex, 0));
+    list.add(f, {0.0, 0.0, capsule->half_length}, feature(FeatureKind::segment, hull::kInvalidIndex, 1));
+  } else if (const auto* cylinder = std::get_if<Cylinder>(&b)) {
+    add_rim(f, cylinder->radius, -cylinder->half_length, 0, list);
+    add_rim(f, cylinder->radius, cylinder->half_length, 1, list);
+  } else if (const auto* cone = std::get_if<Cone>(&b)) {
+    list.add(f, {0.0, 0.0, cone->half_length}, feature(FeatureKind::cap, 1, 5));
+    add_rim(f, cone->radius, -cone->half_length, 0, list);
+  }
+}
+
+// Candidates closer than `tie` to an earlier one are that one: the earlier
+// id (stable), the deeper position (the depth stays exact).
+void merge_coincident(CandidateList& list, double tie) {
+  int kept = 0;
+  for (int i = 0; i < list.count; ++i) {
+    const Candidate c = list.items[i];
+    int same = -1;
+    for (int j = 0; j < kept && same < 0; ++j)
+      if ((list.items[j].p - c.p).cwiseAbs().maxCoeff() <= tie) same = j;
+    if (same < 0) {
+      list.items[kept++] = c;
+    } else if (c.g < list.items[same].g) {
+      list.items[same].p = c.p;
+      list.items[same].g = c.g;
+    }
+  }
+  list.count = kept;
+}
+
+// The reduction of manifold.hpp's face contacts on the candidates with
+// g <= threshold: the deepest (the first within `depth_tie` of the least
+// gap), the farthest from it in the plane, the largest positive and
+// negative signed areas with those two (first within the ties). Returns the
+// number chosen into `chosen` and the candidates counted into `passing`.
+template <class Candidates>
+int reduce(const Candidates& c, const Eigen::Vector3d& u, double threshold, double depth_tie, double length_tie,
+           std::array<int, kMaxContactPoints>& chosen, int& passing) {
+  const int n = c.count();
+  double least = std::numeric_limits<double>::infinity();
+  passing = 0;
+  for (int i = 0; i < n; ++i) {
+    const double g = c.at(i).g;
+    if (g <= threshold) ++passing;
+    least = std::min(least, g);
+  }
+  if (passing == 0) return 0;
+  int deepest = 0;
+  while (c.at(deepest).g > least + depth_tie) ++deepest;
+  const Eigen::Vector3d pd = c.at(deepest).p;
+  const auto planar = [&](const Eigen::Vector3d& d) { return Eigen::Vector3d(d - dot3(u, d) * u); };
+  int count = 0;
+  chosen[count++] = deepest;
+  // The farthest from the deepest in the plane.
+  double far2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const Candidate ci = c.at(i);
+    if (ci.g <= threshold) far2 = std::max(far2, planar(ci.p - pd).squaredNorm());
+  }
+  const double far = std::sqrt(far2);
+  if (!(far > length_tie)) return count;
+  int farthest = -1;
+  for (int i = 0; i < n && farthest < 0; ++i) {
+    const Candidate ci = c.at(i);
+    if (ci.g <= threshold && planar(ci.p - pd).norm() >= far - length_tie) farthest = i;
+  }
+  chosen[count++] = farthest;
+  const Eigen::Vector3d edge = c.at(farthest).p - pd;
+  const auto area = [&](const Eigen::Vector3d& p) { return dot3(u, cross3(edge, p - pd)); };
+  double most = 0.0, least_area = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const Candidate ci = c.at(i);
+    if (ci.g > threshold) continue;
+    const double a = area(ci.p);
+    most = std::max(most, a);
+    least_area = std::min(least_area, a);
+  }
+  const double area_tie = length_tie * far;
+  if (most > area_tie) {
+    for (int i = 0; i < n; ++i)
+      if (c.at(i).g <= threshold && area(c.at(i).p) >= most - area_tie) {
+        chosen[count++] = i;
+        break;
+      }
+  }
+  if (least_area < -area_tie) {
+    for (int i = 0; i < n; ++i)
+      if (c.at(i).g <= threshold && area(c.at(i).p) <= least_area + area_tie) {
+        chosen[count++] = i;
+        break;
+      }
+  }
+  return count;
+}
+
+// The last answer's points, when all are still candidates and their deepest
+// lies within `hold` of the least gap (manifold.hpp's ContactSettings::hold).
+template <class Candidates>
+int held(const Candidates& c, const ContactCache& cache, double threshold, double least, double hold,
+         std::array<int, kMaxContactPoints>& chosen) {
+  if (cache.kept_count <= 0 || cache.kept_count > kMaxContactPoints) return 0;
+  double deepest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < cache.kept_count; ++k) {
+    const int i = c.find(cache.kept[k]);
+    if (i < 0 || c.at(i).g > threshold) return 0;
+    chosen[k] = i;
+    deepest = std::min(deepest, c.at(i).g);
+  }
+  return deepest <= least + hold ? cache.kept_count : 0;
+}
+
+#if HEDRA_ASSERTS_ENABLED
+double least_gap(const Frame& f, const Shape& b) {
+  // B's support in -u: the exact signed distance.
+  const Eigen::Vector3d s = support(b, -f.u);  // rounding included
+  return dot3(f.u, s) + f.s0;
+}
+#endif
+
+// Does the line through candidate c's point along -n leave B right there
+// (B's surface point on that line is c's)? A sharp feature: some face at it
+// faces down (u . normal < 0). A rounded one never, but for B's support.
+bool leaves_at(const Shape& b, const Frame& f, const Candidate& c) {
+  if (f.rounding > 0.0) return false;
+  const Eigen::Vector3d& u = f.u;
+  if (std::holds_alternative<Box>(b)) {
+    const std::uint32_t k = c.id.incident;
+    return ((k & 1) ? u.x() : -u.x()) < 0.0 || ((k & 2) ? u.y() : -u.y()) < 0.0 || ((k & 4) ? u.z() : -u.z()) < 0.0;
+  }
+  if (const auto* poly = std::get_if<Polyhedron>(&b)) {
+    const hull::HalfEdgeMesh& mesh = poly->hull->mesh();
+    if (mesh.dimension() < 3) return true;  // no interior for the line to cross
+    for (const hull::Index face : mesh.vertex_faces(c.id.incident))
+      if (dot3(mesh.plane(face).normal, u) < 0.0) return true;
+    return false;
+  }
+  const Eigen::Vector3d radial(c.p.x(), c.p.y(), 0.0);
+  if (const auto* cylinder = std::get_if<Cylinder>(&b)) {
+    return (c.p.z() > 0.0 ? u.z() : -u.z()) < 0.0 || dot3(radial, u) < 0.0;
+    (void)cylinder;
+  }
+  if (const auto* cone = std::get_if<Cone>(&b)) {
+    if (c.id.incident == 5) {  // the apex: the line goes into the cone when -u lies in its angle
+      const double down = u.z(), across = accurate_hypot(u.x(), u.y());
+      return !(down > 0.0 && 2.0 * cone->half_length * across <= cone->radius * down);
+    }
+    const Eigen::Vector3d slant = 2.0 * cone->half_length * radial + Eigen::Vector3d(0, 0, cone->radius * cone->radius);
+    return u.z() > 0.0 || dot3(slant, u) < 0.0;
+  }
+  return true;  // a sphere's centre, a bare segment's ends
+}
+
+// How far B's surface reaches below q (world) on the line along n: a ray
+// from below B up that line (raycast.hpp: exact within 1e-10 of B's size).
+double drop_below(const Shape& b, const Pose& pose_b, const Frame& f, const Eigen::Vector3d& q) {
+  const double reach = 3.0 * f.size + std::abs(dot3(f.n, q - pose_b.translation));
+  if (!(reach > 0.0)) return 0.0;
+  const RaycastResult r = raycast(b, pose_b, q - reach * f.n, reach * f.n, 1.0);
+  if (r.status != CastStatus::hit) return 0.0;
+  return std::max(0.0, (1.0 - r.fraction) * reach);
+}
+
+template <class Candidates>
+ContactResult contact_from(const Candidates& c, const Frame& f, const Shape& b, const Pose& pose_b,
+                           ContactCache* cache, const ContactSettings& settings, ContactPath many_path) {
+  ContactResult out;
+  out.normal = f.n;
+  const double threshold = settings.contact_distance + settings.penetration.touching_band * f.size;
+  const double depth_tie = 4.0 * f.rounding_error;
+  const double length_tie = 1e-6 * f.size;
+  std::array<int, kMaxContactPoints> chosen{};
+  int passing = 0;
+  int count = reduce(c, f.u, threshold, depth_tie, length_tie, chosen, passing);
+  out.stats.clipped_points = passing;
+  double least = std::numeric_limits<double>::infinity();
+  int deepest = -1;
+  for (int i = 0; i < c.count(); ++i)
+    if (c.at(i).g < least) least = c.at(i).g, deepest = i;
+  HEDRA_ASSERT(deepest >= 0);
+  out.distance = least;
+  out.intersecting = least <= 0.0;
+  const auto on_b = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d { return pose_b.apply(p) - f.rounding * f.n; };
+  out.point_b = on_b(c.at(deepest).p);
+  out.point_a = out.point_b - least * f.n;
+  if (count == 0) {
+    out.path = ContactPath::separated;
+    if (cache) cache->kept_count = 0;
+    return out;
+  }
+  if (cache && settings.hold > 0.0) {
+    std::array<int, kMaxContactPoints> kept{};
+    const int n_kept = held(c, *cache, threshold, least, settings.hold * f.size, kept);
+    if (n_kept > 0) chosen = kept, count = n_kept;
+  }
+  out.count = count;
+  bool one_cap = true;
+  for (int k = 0; k < count; ++k) {
+    const Candidate ck = c.at(chosen[k]);
+    Eigen::Vector3d q = on_b(ck.p);
+    double g = ck.g;
+    // B's surface on the line along n through q: q itself for B's support
+    // and features that face down, otherwise measured.
+    if (chosen[k] != deepest && !leaves_at(b, f, ck)) {
+      const double drop = drop_below(b, pose_b, f, q);
+      q -= drop * f.n;
+      g -= drop;
+    }
+    out.points[k].point = q - (g / 2.0) * f.n;
+    out.points[k].depth = -g;
+    out.points[k].id = ck.id;
+    one_cap = one_cap && ck.id.clip == c.at(chosen[0]).id.clip;
+  }
+  out.path = count == 1 ? ContactPath::single_point
+                        : (many_path == ContactPath::cap && !one_cap ? ContactPath::segment : many_path);
+  if (cache) {
+    cache->kept_count = count;
+    for (int k = 0; k < count; ++k) cache->kept[k] = out.points[k].id;
+  }
+  return out;
+}
+
+}  // namespace
+
+ShapeValidation validate(const Halfspace& h) {
+  char buffer[200];
+  if (!h.normal.allFinite()) {
+    std::snprintf(buffer, sizeof buffer, "halfspace normal = (%.17g, %.17g, %.17g) is not finite", h.normal.x(),
+                  h.normal.y(), h.normal.z());
+    return {ShapeError::non_finite, buffer};
+  }
+  if (!(std::abs(h.normal.norm() - 1.0) <= kUnitTolerance)) {
+    std::snprintf(buffer, sizeof buffer, "halfspace normal = (%.17g, %.17g, %.17g) is not a unit vector (|n| = %.17g)",
+                  h.normal.x(), h.normal.y(), h.normal.z(), h.normal.norm());
+    return {ShapeError::out_of_range, buffer};
+  }
+  if (!std::isfinite(h.margin)) {
+    std::snprintf(buffer, sizeof buffer, "halfspace margin = %.17g", h.margin);
+    return {ShapeError::non_finite, buffer};
+  }
+  if (h.margin < 0.0) {
+    std::snprintf(buffer, sizeof buffer, "halfspace margin = %.17g", h.margin);
+    return {ShapeError::negative_margin, buffer};
+  }
+  if (h.margin > max_shape_size) {
+    std::snprintf(buffer, sizeof buffer, "halfspace margin = %.17g is larger than max_shape_size (1e60)", h.margin);
+    return {ShapeError::out_of_range, buffer};
+  }
+  return {};
+}
+
+bool is_valid(const Halfspace& h) {
+  return h.normal.allFinite() && std::abs(h.normal.norm() - 1.0) <= kUnitTolerance && h.margin >= 0.0 &&
+         h.margin <= max_shape_size;
+}
+
+PenetrationResult penetration(const Halfspace& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
+  PenetrationResult out;
+  if (!inputs_valid(a, pose_a, b, pose_b)) {
+    out.status = Status::invalid_input;
+    return out;
+  }
+  const Frame f = make_frame(a, pose_a, b, pose_b);
+  const Eigen::Vector3d s = support(b, -f.u);
+  out.distance = dot3(f.u, s) + f.s0;
+  out.intersecting = out.distance <= 0.0;
+  out.normal = f.n;
+  out.point_b = pose_b.apply(s);
+  out.point_a = out.point_b - out.distance * f.n;
+  out.error_bound = f.rounding_error;
+  out.support_calls = 1;
+  return out;
+}
+
+DistanceResult distance(const Halfspace& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
+  DistanceResult out;
+  const PenetrationResult p = penetration(a, pose_a, b, pose_b);
+  out.status = p.status;
+  if (p.status != Status::ok) return out;
+  out.support_calls = 1;
+  out.error_bound = p.error_bound;
+  out.intersecting = p.intersecting;
+  if (p.intersecting) return out;
+  out.distance = p.distance;
+  out.normal = p.normal;
+  out.point_a = p.point_a;
+  out.point_b = p.point_b;
+  return out;
+}
+
+IntersectResult intersect(const Halfspace& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
+  IntersectResult out;
+  const PenetrationResult p = penetration(a, pose_a, b, pose_b);
+  out.status = p.status;
+  out.intersecting = p.status == Status::ok && p.intersecting;
+  out.support_calls = p.support_calls;
+  return out;
+}
+
+ContactResult contact(const Halfspace& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
+                      const ContactSettings& settings) {
+  if (!inputs_valid(a, pose_a, b, pose_b) || !std::isfinite(settings.contact_distance)) {
+    ContactResult out;
+    out.status = Status::invalid_input;
+    return out;
+  }
+  const Frame f = make_frame(a, pose_a, b, pose_b);
+  ContactResult out;
+  if (const auto* poly = std::get_if<Polyhedron>(&b)) {
+    const ConvexPolyhedron& hull = *poly->hull;
+    const HullCandidates c{hull, f, f.s0 + dot3(f.u, hull.offset()) - f.rounding};
+    out = contact_from(c, f, b, pose_b, cache, settings, ContactPath::face_a);
+  } else {
+    CandidateList list;
+    build_list(f, b, list);
+    merge_coincident(list, 1e-6 * f.size);
+    const ContactPath path = std::holds_alternative<Box>(b)       ? ContactPath::face_a
+                             : std::holds_alternative<Capsule>(b) ? ContactPath::segment
+                             : std::holds_alternative<Sphere>(b)  ? ContactPath::single_point
+                                                                  : ContactPath::cap;
+    out = contact_from(ListCandidates{list}, f, b, pose_b, cache, settings, path);
+  }
+  // The deepest candidate is B's support in -n (the exact depth).
+  HEDRA_ASSERT(std::abs(out.distance - least_gap(f, b)) <= 4.0 * f.rounding_error + 1e-12 * f.size);
+  return out;
+}
+
+RaycastResult raycast(const Halfspace& h, const Pose& pose, const Eigen::Vector3d& origin,
+                      const Eigen::Vector3d& direction, double max_fraction, const RaycastSettings& settings) {
+  (void)settings;
+  RaycastResult out;
+  if (!is_valid(h) || !pose.valid() || !origin.allFinite() || !direction.allFinite() ||
+      !(max_fraction >= 0.0 && max_fraction <= max_coordinate) ||
+      origin.cwiseAbs().maxCoeff() > max_coordinate || direction.cwiseAbs().maxCoeff() > max_coordinate) {
+    out.status = CastStatus::invalid_input;
+    return out;
+  }
+  Eigen::Vector3d n = pose.rotation * (h.normal / h.normal.norm());
+  n /= n.norm();
+  const Eigen::Vector3d from = origin - pose.translation;
+  const double height = dot3(n, from) - h.margin;
+  const double tolerance = 16.0 * kEps * (from.cwiseAbs().sum() + h.margin);
+  out.error_bound = tolerance;
+  if (height <= tolerance) {
+    out.status = CastStatus::initially_overlapping;
+    out.hit = out.started_inside = true;
+    out.point = origin;
+    return out;
+  }
+  const double descent = -dot3(n, direction);
+  // Reaches the surface within max_fraction: height <= max_fraction * descent.
+  if (!(descent > 0.0) || !(height <= max_fraction * descent)) {
+    out.status = CastStatus::separated;
+    out.fraction = max_fraction;
+    return out;
+  }
+  out.status = CastStatus::hit;
+  out.hit = true;
+  out.fraction = std::min(height / descent, max_fraction);
+  out.point = origin + out.fraction * direction;
+  out.normal = n;
+  return out;
+}
+
+}  // namespace hedra::collision
