@@ -35,6 +35,9 @@
 //     plus the query's and penetration()'s error bounds of the target.
 // The tolerance is 1e-9 of the pair's size plus the rounding of its world
 // coordinates (64 eps of the largest coordinate, motions included).
+// Halfspaces (halfspace.hpp): B against the halfspace z <= margin of A's
+// pose (a margin from a byte read after everything else), checked by
+// check_halfspace() below.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -42,6 +45,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <hedra/collision/cast.hpp>
+#include <hedra/collision/halfspace.hpp>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/raycast.hpp>
@@ -372,6 +376,84 @@ void check_casts(const Shape& a, const Pose& pose_a, const Shape& b, const Pose&
 
 }  // namespace
 
+// B against the halfspace {z <= margin} of A's pose: invalid_input exactly
+// for invalid input; otherwise finite outputs, the queries agree with each
+// other, contact()'s deepest depth is the signed distance, every point's
+// depth is its gap to the plane along the normal (within the contact
+// distance), and the signed distance matches penetration() of B against a
+// box 1e3 times B's size whose top face is the plane (GJK and EPA: an
+// independent path).
+void check_halfspace(const Shape& b, const Pose& pose_a, const Pose& pose_b, double margin, bool b_valid) {
+  using namespace hedra::collision;
+  const Halfspace h{Vec::UnitZ(), margin};
+  const PenetrationResult p = penetration(h, pose_a, b, pose_b);
+  ContactSettings settings;
+  const double size = b_valid ? bounding_radius(b) : 0.0;
+  settings.contact_distance = 0.01 * size;
+  const ContactResult c = contact(h, pose_a, b, pose_b, nullptr, settings);
+  const DistanceResult d = distance(h, pose_a, b, pose_b);
+  const IntersectResult i = intersect(h, pose_a, b, pose_b);
+  HEDRA_FUZZ_CHECK(std::isfinite(p.distance) && finite(p.normal) && finite(p.point_a) && finite(p.point_b) &&
+                       std::isfinite(c.distance) && finite(c.normal) && c.count >= 0 && c.count <= kMaxContactPoints,
+                   "halfspace: non-finite output (status %s)", to_string(p.status));
+  for (int k = 0; k < c.count; ++k)
+    HEDRA_FUZZ_CHECK(finite(c.points[k].point) && std::isfinite(c.points[k].depth), "halfspace point %d non-finite", k);
+  const bool valid = b_valid && pose_a.valid() && pose_b.valid() && validate(h).ok();
+  if (!valid) {
+    HEDRA_FUZZ_CHECK(p.status == Status::invalid_input && c.status == Status::invalid_input &&
+                         d.status == Status::invalid_input && i.status == Status::invalid_input,
+                     "halfspace: invalid input answered %s", to_string(p.status));
+    return;
+  }
+  // The pair-extent rule (halfspace.cpp): B's size or its distance to the plane.
+  const Vec n = pose_a.rotation.col(2);
+  const double extent = std::max(size, std::fabs(n.dot(pose_b.translation - pose_a.translation)));
+  if (!(extent == 0.0 || extent >= min_pair_extent)) {
+    HEDRA_FUZZ_CHECK(p.status == Status::invalid_input, "halfspace: out-of-range pair answered %s",
+                     to_string(p.status));
+    return;
+  }
+  HEDRA_FUZZ_CHECK(p.status == Status::ok && c.status == Status::ok && d.status == Status::ok && i.status == Status::ok,
+                   "halfspace: valid input answered %s / %s", to_string(p.status), to_string(c.status));
+  double offset = 0.0;
+  if (const auto* poly = std::get_if<Polyhedron>(&b)) offset = poly->hull->offset().norm();
+  const double coordinates = (pose_b.translation - pose_a.translation).norm() + offset + size + margin;
+  const double tol = 1e-9 * size + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
+  HEDRA_FUZZ_CHECK(std::fabs(p.normal.norm() - 1.0) < 1e-12, "halfspace normal of length %.17g", p.normal.norm());
+  HEDRA_FUZZ_CHECK(std::fabs(c.distance - p.distance) <= tol, "halfspace: contact %.17g, penetration %.17g",
+                   c.distance, p.distance);
+  HEDRA_FUZZ_CHECK(i.intersecting == p.intersecting && d.intersecting == p.intersecting,
+                   "halfspace: intersect / distance / penetration disagree");
+  if (c.distance <= settings.contact_distance) HEDRA_FUZZ_CHECK(c.count >= 1, "halfspace: no point at %.17g", c.distance);
+  double deepest = -INFINITY;
+  for (int k = 0; k < c.count; ++k) {
+    const ContactPoint& q = c.points[k];
+    deepest = std::max(deepest, q.depth);
+    HEDRA_FUZZ_CHECK(q.depth >= -settings.contact_distance - tol, "halfspace point %d at gap %.17g", k, -q.depth);
+    const Vec on_a = q.point + (q.depth / 2.0) * c.normal;
+    // World points: rounded at the scale of their coordinates.
+    const double world = tol + 64.0 * std::numeric_limits<double>::epsilon() * pose_b.translation.norm();
+    HEDRA_FUZZ_CHECK(std::fabs(n.dot(on_a - pose_a.translation) - margin) <= world,
+                     "halfspace point %d: its witness on A is %.3g off the plane", k,
+                     n.dot(on_a - pose_a.translation) - margin);
+  }
+  if (c.count > 0)
+    HEDRA_FUZZ_CHECK(std::fabs(deepest + c.distance) <= tol, "halfspace: deepest %.17g, depth %.17g", deepest,
+                     -c.distance);
+  // The plane as a large box (sizes where GJK's tolerance of the box's size
+  // stays well under the one checked).
+  if (size < 1e-3 || size > 1e3 || coordinates > 1e4 * size || pose_b.translation.norm() > 1e4 * size ||
+      std::fabs(p.distance) > 10.0 * size)
+    return;
+  const double L = 1e3 * size;
+  const Vec foot = pose_b.translation - (n.dot(pose_b.translation - pose_a.translation) - margin) * n;
+  const Pose box_pose{pose_a.rotation, foot - L * n};
+  const PenetrationResult via_box = penetration(Box{Vec::Constant(L), 0.0}, box_pose, b, pose_b);
+  if (via_box.status != Status::ok) return;
+  HEDRA_FUZZ_CHECK(std::fabs(via_box.distance - p.distance) <= 1e-6 * L + via_box.error_bound,
+                   "halfspace %.17g, the plane as a box %.17g", p.distance, via_box.distance);
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   hedra::fuzz::FuzzInput in(data, size);
   Shape a, b;
@@ -484,6 +566,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (const auto* poly = std::get_if<hedra::collision::Polyhedron>(&s)) offset = poly->hull->offset().norm();
     return pose.translation.norm() + offset + bounding_radius(s);
   };
+  // A halfspace under B: a margin from a byte after all of the above.
+  const std::uint8_t halfspace_margin = in.byte();
+  check_halfspace(b, pose_a, pose_b, halfspace_margin % 4 == 1 ? 0.01 * (1 + halfspace_margin / 4) : 0.0,
+                  validate(b).ok());
   check_raycast(b, pose_b, motion, reach(b, pose_b));
   check_casts(a, pose_a, b, pose_b, motion, valid, larger, std::max(reach(a, pose_a), reach(b, pose_b)));
   if (!valid) {
