@@ -94,21 +94,27 @@ def main():
     # mesh fingers on slide joints, each pushed inward by a constant 2 N
     # (a general actuator with a constant bias force and some damping): the
     # friction can hold 2 N against the box's 0.98 N weight, if the contacts
-    # let it.
+    # let it. gripper: MuJoCo's settings for grasping (elliptic cones,
+    # impratio 10, noslip iterations); gripper_default_solver: MuJoCo's
+    # defaults, whose soft friction lets any grasp creep.
     finger = box_vertices(0.01, 0.03, 0.05)
-    scene("gripper", "A mesh box held between two mesh fingers on slide joints, squeezed by 2 N each.",
-          f'    <mesh name="finger" vertex="{finger}"/>\n'
-          f'    <mesh name="part" vertex="{box_vertices(0.025, 0.025, 0.025)}"/>\n',
-          '    <body name="part" pos="0 0 0.5"><freejoint/><geom type="mesh" mesh="part" mass="0.1" friction="0.5"/></body>\n'
-          '    <body name="left" pos="-0.035 0 0.5"><joint name="left" type="slide" axis="1 0 0" damping="1"/>'
-          '<geom type="mesh" mesh="finger" mass="0.05" friction="0.5"/></body>\n'
-          '    <body name="right" pos="0.035 0 0.5"><joint name="right" type="slide" axis="-1 0 0" damping="1"/>'
-          '<geom type="mesh" mesh="finger" mass="0.05" friction="0.5"/></body>\n',
-          '  <actuator>\n'
-          '    <general joint="left" gainprm="0" biastype="affine" biasprm="2 0 -1"/>\n'
-          '    <general joint="right" gainprm="0" biastype="affine" biasprm="2 0 -1"/>\n'
-          '  </actuator>\n')
-
+    for name, option in (("gripper", '  <option cone="elliptic" impratio="10" noslip_iterations="10"/>\n'),
+                         ("gripper_default_solver", "")):
+        scene(name, "A mesh box held between two mesh fingers on slide joints, squeezed by 2 N each"
+              + (" (MuJoCo's grasping settings)." if option else " (MuJoCo's default solver settings)."),
+              f'    <mesh name="finger" vertex="{finger}"/>\n'
+              f'    <mesh name="part" vertex="{box_vertices(0.025, 0.025, 0.025)}"/>\n',
+              '    <body name="part" pos="0 0 0.5"><freejoint/>'
+              '<geom type="mesh" mesh="part" mass="0.1" friction="0.5"/></body>\n'
+              '    <body name="left" pos="-0.035 0 0.5"><joint name="left" type="slide" axis="1 0 0" damping="1"/>'
+              '<geom type="mesh" mesh="finger" mass="0.05" friction="0.5"/></body>\n'
+              '    <body name="right" pos="0.035 0 0.5"><joint name="right" type="slide" axis="-1 0 0" damping="1"/>'
+              '<geom type="mesh" mesh="finger" mass="0.05" friction="0.5"/></body>\n',
+              option +
+              '  <actuator>\n'
+              '    <general joint="left" gainprm="0" biastype="affine" biasprm="2 0 -1"/>\n'
+              '    <general joint="right" gainprm="0" biastype="affine" biasprm="2 0 -1"/>\n'
+              '  </actuator>\n')
 
 if __name__ == "__main__":
     main()
