@@ -20,6 +20,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev                # the hedra tool
   libqhull-dev                                   # the exact reference
   libccd-dev libfcl-dev libbullet-dev            # peers (HEDRA_WITH_PEERS)
+  libmujoco-dev                                  # hedra as MuJoCo's narrowphase (tools/mujoco/)
   python3-matplotlib                             # plots
   libjs-three                                    # three.js, embedded into `hedra view` pages
   chromium                                       # headless browser for the `hedra view` page tests

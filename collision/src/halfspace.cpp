@@ -68,9 +68,10 @@ bool inputs_valid(const Halfspace& h, const Pose& pose_a, const Shape& b, const 
   return extent == 0.0 || extent >= min_pair_extent;
 }
 
+// Written before read (no initialisers: a list of ten is made per call).
 struct Candidate {
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();  // B's core point, local frame
-  double g = 0.0;                               // its gap above the surface
+  Eigen::Vector3d p;  // B's core point, local frame
+  double g;           // its gap above the surface
   FeatureId id;
 };
 
@@ -193,6 +194,13 @@ int reduce(const Candidates& c, const Eigen::Vector3d& u, double threshold, doub
   if (passing == 0) return 0;
   int deepest = 0;
   while (c.at(deepest).g > least + depth_tie) ++deepest;
+  if (passing <= kMaxContactPoints) {  // all of them, the deepest first
+    int count = 0;
+    chosen[count++] = deepest;
+    for (int i = 0; i < n; ++i)
+      if (i != deepest && c.at(i).g <= threshold) chosen[count++] = i;
+    return count;
+  }
   const Eigen::Vector3d pd = c.at(deepest).p;
   const auto planar = [&](const Eigen::Vector3d& d) { return Eigen::Vector3d(d - dot3(u, d) * u); };
   int count = 0;
@@ -296,6 +304,25 @@ bool leaves_at(const Shape& b, const Frame& f, const Candidate& c) {
   return true;  // a sphere's centre, a bare segment's ends
 }
 
+// The same for a capsule's end p (closed form): the line from p down, at
+// p - t u, is within the radius r of the segment until t = r (the end's ball)
+// when the segment runs up from p (a = the axis from p toward the other end,
+// u . a >= 0), else until t = r / |u x a| (the side) while its foot stays on
+// the segment, else to the other end's ball. Returned beyond the ball's r.
+double capsule_drop(const Capsule& capsule, const Frame& f, const Candidate& c) {
+  const double a_z = c.p.z() > 0.0 ? -1.0 : 1.0;  // a = (0, 0, a_z)
+  const double along = -f.u.z() * a_z;             // (-u) . a: how fast the line runs along the axis
+  if (!(along > 0.0)) return 0.0;
+  const double r = f.rounding, length = 2.0 * capsule.half_length;
+  const double across = accurate_hypot(f.u.x(), f.u.y());  // |u x a|
+  const double side = across > 0.0 ? r / across : std::numeric_limits<double>::infinity();
+  if (side * along <= length) return side - r;
+  // Past the other end: that ball, centre at distance `length` along a.
+  // |t (-u) - length a|^2 = r^2, the larger root.
+  const double t = length * along + std::sqrt(std::max(0.0, r * r - length * length * (1.0 - along * along)));
+  return std::max(0.0, t - r);
+}
+
 // How far B's surface reaches below q (world) on the line along n: a ray
 // from below B up that line (raycast.hpp: exact within 1e-10 of B's size).
 double drop_below(const Shape& b, const Pose& pose_b, const Frame& f, const Eigen::Vector3d& q) {
@@ -325,6 +352,8 @@ ContactResult contact_from(const Candidates& c, const Frame& f, const Shape& b, 
   HEDRA_ASSERT(deepest >= 0);
   out.distance = least;
   out.intersecting = least <= 0.0;
+  // The deepest candidate is B's support in -n (the exact depth).
+  HEDRA_ASSERT(std::abs(least - least_gap(f, b)) <= 4.0 * f.rounding_error + 1e-12 * f.size);
   const auto on_b = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d { return pose_b.apply(p) - f.rounding * f.n; };
   out.point_b = on_b(c.at(deepest).p);
   out.point_a = out.point_b - least * f.n;
@@ -347,7 +376,8 @@ ContactResult contact_from(const Candidates& c, const Frame& f, const Shape& b, 
     // B's surface on the line along n through q: q itself for B's support
     // and features that face down, otherwise measured.
     if (chosen[k] != deepest && !leaves_at(b, f, ck)) {
-      const double drop = drop_below(b, pose_b, f, q);
+      const double drop = std::holds_alternative<Capsule>(b) ? capsule_drop(std::get<Capsule>(b), f, ck)
+                                                              : drop_below(b, pose_b, f, q);
       q -= drop * f.n;
       g -= drop;
     }
@@ -450,24 +480,22 @@ ContactResult contact(const Halfspace& a, const Pose& pose_a, const Shape& b, co
     return out;
   }
   const Frame f = make_frame(a, pose_a, b, pose_b);
-  ContactResult out;
   if (const auto* poly = std::get_if<Polyhedron>(&b)) {
     const ConvexPolyhedron& hull = *poly->hull;
     const HullCandidates c{hull, f, f.s0 + dot3(f.u, hull.offset()) - f.rounding};
-    out = contact_from(c, f, b, pose_b, cache, settings, ContactPath::face_a);
-  } else {
-    CandidateList list;
-    build_list(f, b, list);
-    merge_coincident(list, 1e-6 * f.size);
+    return contact_from(c, f, b, pose_b, cache, settings, ContactPath::face_a);
+  }
+  CandidateList list;
+  build_list(f, b, list);
+  // Rims repeat their deepest point (or all of it: a zero radius); boxes
+  // only with a zero extent.
+  const Box* box = std::get_if<Box>(&b);
+  if (!box || !(box->half_extents.minCoeff() > 1e-6 * f.size)) merge_coincident(list, 1e-6 * f.size);
     const ContactPath path = std::holds_alternative<Box>(b)       ? ContactPath::face_a
                              : std::holds_alternative<Capsule>(b) ? ContactPath::segment
                              : std::holds_alternative<Sphere>(b)  ? ContactPath::single_point
                                                                   : ContactPath::cap;
-    out = contact_from(ListCandidates{list}, f, b, pose_b, cache, settings, path);
-  }
-  // The deepest candidate is B's support in -n (the exact depth).
-  HEDRA_ASSERT(std::abs(out.distance - least_gap(f, b)) <= 4.0 * f.rounding_error + 1e-12 * f.size);
-  return out;
+  return contact_from(ListCandidates{list}, f, b, pose_b, cache, settings, path);
 }
 
 RaycastResult raycast(const Halfspace& h, const Pose& pose, const Eigen::Vector3d& origin,
