@@ -30,23 +30,32 @@ constexpr double kUnitTolerance = 1e-6;
 
 // The pair, measured once.
 struct Frame {
-  Eigen::Vector3d n;          // world unit normal (A toward B)
-  Eigen::Vector3d u;          // n in B's local frame
-  double s0 = 0.0;            // g(p) = u . p + s0 - rounding
-  double rounding = 0.0;      // B's radius around its core
-  double size = 0.0;          // B's bounding radius
+  Eigen::Vector3d n;            // world unit normal (A toward B)
+  Eigen::Vector3d u;            // n in B's local frame
+  double across = 0.0;          // |u_xy|: u's component across B's local z
+  double s0 = 0.0;              // g(p) = u . p + s0 - rounding
+  double rounding = 0.0;        // B's radius around its core
+  double size = 0.0;            // B's bounding radius
   double rounding_error = 0.0;  // bound on the rounding of g
 };
 
-Frame make_frame(const Halfspace& h, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
-  Frame f;
-  const Eigen::Vector3d local = h.normal / h.normal.norm();
-  f.n = pose_a.rotation * local;
+// Checks the input (invalid_input otherwise: is_valid() of both, valid
+// poses, the pair's extent of query.hpp: B's size or its distance to the
+// plane) and measures the pair once.
+bool make_frame(const Halfspace& h, const Pose& pose_a, const Shape& b, const Pose& pose_b, Frame& f) {
+  const double length = h.normal.norm();
+  if (!(std::abs(length - 1.0) <= kUnitTolerance) || !(h.margin >= 0.0 && h.margin <= max_shape_size) ||
+      !pose_a.valid() || !pose_b.valid() || !is_valid(b, f.size))
+    return false;
+  f.n = pose_a.rotation * (h.normal / length);
   f.n /= f.n.norm();
   f.u = pose_b.rotation.transpose() * f.n;
+  f.across = std::sqrt(f.u.x() * f.u.x() + f.u.y() * f.u.y());
   const Eigen::Vector3d between = pose_b.translation - pose_a.translation;
-  f.s0 = dot3(f.n, between) - h.margin;
-  f.size = bounding_radius(b);
+  const double height = dot3(f.n, between);
+  const double extent = std::max(f.size, std::abs(height));
+  if (!(extent == 0.0 || extent >= min_pair_extent)) return false;
+  f.s0 = height - h.margin;
   f.rounding = std::visit(
       [](const auto& s) {
         using S = std::decay_t<decltype(s)>;
@@ -55,17 +64,7 @@ Frame make_frame(const Halfspace& h, const Pose& pose_a, const Shape& b, const P
       },
       b);
   f.rounding_error = 16.0 * kEps * (between.cwiseAbs().sum() + f.size + h.margin);
-  return f;
-}
-
-bool inputs_valid(const Halfspace& h, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
-  if (!is_valid(h) || !pose_a.valid() || !pose_b.valid()) return false;
-  double radius = 0.0;
-  if (!is_valid(b, radius)) return false;
-  // The pair's extent (query.hpp's rule): B's size or its distance to the plane.
-  const double gap = std::abs(dot3(pose_a.rotation * h.normal, pose_b.translation - pose_a.translation));
-  const double extent = std::max(radius, gap);
-  return extent == 0.0 || extent >= min_pair_extent;
+  return true;
 }
 
 // Written before read (no initialisers: a list of ten is made per call).
@@ -94,17 +93,39 @@ struct CandidateList {
   }
 };
 
-// A disc's rim at height z: +x, -x, +y, -y, then the deepest rim point
-// (along -u's projection; the +x point when u is along the axis).
-void add_rim(const Frame& f, double radius, double z, std::uint32_t cap, CandidateList& list) {
-  list.add(f, {radius, 0.0, z}, feature(FeatureKind::cap, cap, 0));
-  list.add(f, {-radius, 0.0, z}, feature(FeatureKind::cap, cap, 1));
-  list.add(f, {0.0, radius, z}, feature(FeatureKind::cap, cap, 2));
-  list.add(f, {0.0, -radius, z}, feature(FeatureKind::cap, cap, 3));
-  const double w = accurate_hypot(f.u.x(), f.u.y());
-  const Eigen::Vector3d deepest =
+// A disc's rim at height z: the deepest rim point (along -u's projection;
+// the +x point when u is along the axis) and the rim points on +x, -x, +y,
+// -y that pass (g <= threshold). A rim point within `tie` of the deepest is
+// that point: its id (stable), the deepest's position and gap (exact).
+// `always`: the deepest is added even when it does not pass (it may be B's
+// support).
+void add_rim(const Frame& f, double radius, double z, std::uint32_t cap, double threshold, double tie, bool always,
+             CandidateList& list) {
+  const double w = f.across;
+  const Eigen::Vector3d deep =
       w > 0.0 ? Eigen::Vector3d(-radius * (f.u.x() / w), -radius * (f.u.y() / w), z) : Eigen::Vector3d(radius, 0, z);
-  list.add(f, deepest, feature(FeatureKind::cap, cap, 4));
+  const double g_deep = dot3(f.u, deep) + f.s0 - f.rounding;
+  if (!always && !(g_deep <= threshold)) return;  // the rest of the rim lies higher
+  const Eigen::Vector3d rim[4] = {{radius, 0.0, z}, {-radius, 0.0, z}, {0.0, radius, z}, {0.0, -radius, z}};
+  bool merged = false;
+  for (std::uint32_t k = 0; k < 4; ++k) {
+    if (!merged && (rim[k] - deep).cwiseAbs().maxCoeff() <= tie) {
+      list.items[list.count++] = {deep, g_deep, feature(FeatureKind::cap, cap, k)};
+      merged = true;
+      continue;
+    }
+    const double g = dot3(f.u, rim[k]) + f.s0 - f.rounding;
+    if (g <= threshold) list.items[list.count++] = {rim[k], g, feature(FeatureKind::cap, cap, k)};
+  }
+  if (!merged) list.items[list.count++] = {deep, g_deep, feature(FeatureKind::cap, cap, 4)};
+}
+
+// A cylinder's two caps: the lower one always (it holds B's support), the
+// other when its deepest rim point passes.
+void add_caps(const Frame& f, double radius, double half_length, double threshold, double tie, CandidateList& list) {
+  const bool top_lower = f.u.z() < 0.0;
+  add_rim(f, radius, top_lower ? half_length : -half_length, top_lower ? 1 : 0, threshold, tie, true, list);
+  add_rim(f, radius, top_lower ? -half_length : half_length, top_lower ? 0 : 1, threshold, tie, false, list);
 }
 
 struct ListCandidates {
@@ -135,7 +156,7 @@ struct HullCandidates {
   }
 };
 
-void build_list(const Frame& f, const Shape& b, CandidateList& list) {
+void build_list(const Frame& f, const Shape& b, double threshold, double tie, CandidateList& list) {
   if (const auto* s = std::get_if<Sphere>(&b)) {
     (void)s;
     list.add(f, Eigen::Vector3d::Zero(), feature(FeatureKind::single, hull::kInvalidIndex, 0));
@@ -148,11 +169,10 @@ void build_list(const Frame& f, const Shape& b, CandidateList& list) {
     list.add(f, {0.0, 0.0, -capsule->half_length}, feature(FeatureKind::segment, hull::kInvalidIndex, 0));
     list.add(f, {0.0, 0.0, capsule->half_length}, feature(FeatureKind::segment, hull::kInvalidIndex, 1));
   } else if (const auto* cylinder = std::get_if<Cylinder>(&b)) {
-    add_rim(f, cylinder->radius, -cylinder->half_length, 0, list);
-    add_rim(f, cylinder->radius, cylinder->half_length, 1, list);
+    add_caps(f, cylinder->radius, cylinder->half_length, threshold, tie, list);
   } else if (const auto* cone = std::get_if<Cone>(&b)) {
     list.add(f, {0.0, 0.0, cone->half_length}, feature(FeatureKind::cap, 1, 5));
-    add_rim(f, cone->radius, -cone->half_length, 0, list);
+    add_rim(f, cone->radius, -cone->half_length, 0, threshold, tie, true, list);
   }
 }
 
@@ -295,7 +315,7 @@ bool leaves_at(const Shape& b, const Frame& f, const Candidate& c) {
   }
   if (const auto* cone = std::get_if<Cone>(&b)) {
     if (c.id.incident == 5) {  // the apex: the line goes into the cone when -u lies in its angle
-      const double down = u.z(), across = accurate_hypot(u.x(), u.y());
+      const double down = u.z(), across = f.across;
       return !(down > 0.0 && 2.0 * cone->half_length * across <= cone->radius * down);
     }
     const Eigen::Vector3d slant = 2.0 * cone->half_length * radial + Eigen::Vector3d(0, 0, cone->radius * cone->radius);
@@ -314,13 +334,50 @@ double capsule_drop(const Capsule& capsule, const Frame& f, const Candidate& c) 
   const double along = -f.u.z() * a_z;             // (-u) . a: how fast the line runs along the axis
   if (!(along > 0.0)) return 0.0;
   const double r = f.rounding, length = 2.0 * capsule.half_length;
-  const double across = accurate_hypot(f.u.x(), f.u.y());  // |u x a|
+  const double across = f.across;  // |u x a|
   const double side = across > 0.0 ? r / across : std::numeric_limits<double>::infinity();
   if (side * along <= length) return side - r;
   // Past the other end: that ball, centre at distance `length` along a.
   // |t (-u) - length a|^2 = r^2, the larger root.
   const double t = length * along + std::sqrt(std::max(0.0, r * r - length * length * (1.0 - along * along)));
   return std::max(0.0, t - r);
+}
+
+// The same for a sharp box, hull or cylinder (closed forms): the line
+// p - t u stays in the solid while every face plane it approaches (n_f . u
+// < 0) is ahead, t <= (offset_f - n_f . p) / (-n_f . u) (p's own faces: 0,
+// rounding clamped); the cylinder's side, a quadratic in t. Returns a
+// negative value for the shapes it does not handle.
+double sharp_drop(const Shape& b, const Frame& f, const Candidate& c) {
+  if (f.rounding > 0.0) return -1.0;
+  const Eigen::Vector3d& u = f.u;
+  double t = std::numeric_limits<double>::infinity();
+  const auto plane = [&](const Eigen::Vector3d& normal, double ahead) {
+    const double approach = -dot3(normal, u);
+    if (approach > 0.0) t = std::min(t, std::max(0.0, ahead) / approach);
+  };
+  if (const auto* box = std::get_if<Box>(&b)) {
+    for (int i = 0; i < 3; ++i) {
+      plane(Eigen::Vector3d::Unit(i), box->half_extents[i] - c.p[i]);
+      plane(-Eigen::Vector3d::Unit(i), box->half_extents[i] + c.p[i]);
+    }
+  } else if (const auto* poly = std::get_if<Polyhedron>(&b)) {
+    const hull::HalfEdgeMesh& mesh = poly->hull->mesh();
+    const Eigen::Vector3d& v = poly->hull->vertex(c.id.incident);
+    for (hull::Index face = 0; face < mesh.face_count(); ++face)
+      plane(mesh.plane(face).normal, -mesh.plane(face).signed_distance(v));
+  } else if (const auto* cylinder = std::get_if<Cylinder>(&b)) {
+    plane(Eigen::Vector3d::UnitZ(), cylinder->half_length - c.p.z());
+    plane(-Eigen::Vector3d::UnitZ(), cylinder->half_length + c.p.z());
+    // |p_xy - t u_xy|^2 <= r^2: a t^2 - 2 b t + c0 <= 0, c0 <= 0 (p inside).
+    const double a = u.x() * u.x() + u.y() * u.y();
+    const double lin = c.p.x() * u.x() + c.p.y() * u.y();
+    const double c0 = std::min(0.0, c.p.x() * c.p.x() + c.p.y() * c.p.y() - cylinder->radius * cylinder->radius);
+    if (a > 0.0) t = std::min(t, std::max(0.0, (lin + std::sqrt(lin * lin - a * c0)) / a));
+  } else {
+    return -1.0;
+  }
+  return std::isfinite(t) ? t : 0.0;
 }
 
 // How far B's surface reaches below q (world) on the line along n: a ray
@@ -376,8 +433,9 @@ ContactResult contact_from(const Candidates& c, const Frame& f, const Shape& b, 
     // B's surface on the line along n through q: q itself for B's support
     // and features that face down, otherwise measured.
     if (chosen[k] != deepest && !leaves_at(b, f, ck)) {
-      const double drop = std::holds_alternative<Capsule>(b) ? capsule_drop(std::get<Capsule>(b), f, ck)
-                                                              : drop_below(b, pose_b, f, q);
+      double drop = std::holds_alternative<Capsule>(b) ? capsule_drop(std::get<Capsule>(b), f, ck)
+                                                        : sharp_drop(b, f, ck);
+      if (drop < 0.0) drop = drop_below(b, pose_b, f, q);  // rounded shapes, cones: a ray from below
       q -= drop * f.n;
       g -= drop;
     }
@@ -431,11 +489,11 @@ bool is_valid(const Halfspace& h) {
 
 PenetrationResult penetration(const Halfspace& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
   PenetrationResult out;
-  if (!inputs_valid(a, pose_a, b, pose_b)) {
+  Frame f;
+  if (!make_frame(a, pose_a, b, pose_b, f)) {
     out.status = Status::invalid_input;
     return out;
   }
-  const Frame f = make_frame(a, pose_a, b, pose_b);
   const Eigen::Vector3d s = support(b, -f.u);
   out.distance = dot3(f.u, s) + f.s0;
   out.intersecting = out.distance <= 0.0;
@@ -474,23 +532,26 @@ IntersectResult intersect(const Halfspace& a, const Pose& pose_a, const Shape& b
 
 ContactResult contact(const Halfspace& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
                       const ContactSettings& settings) {
-  if (!inputs_valid(a, pose_a, b, pose_b) || !std::isfinite(settings.contact_distance)) {
+  Frame f;
+  if (!make_frame(a, pose_a, b, pose_b, f) || !std::isfinite(settings.contact_distance)) {
     ContactResult out;
     out.status = Status::invalid_input;
     return out;
   }
-  const Frame f = make_frame(a, pose_a, b, pose_b);
   if (const auto* poly = std::get_if<Polyhedron>(&b)) {
     const ConvexPolyhedron& hull = *poly->hull;
     const HullCandidates c{hull, f, f.s0 + dot3(f.u, hull.offset()) - f.rounding};
     return contact_from(c, f, b, pose_b, cache, settings, ContactPath::face_a);
   }
   CandidateList list;
-  build_list(f, b, list);
-  // Rims repeat their deepest point (or all of it: a zero radius); boxes
-  // only with a zero extent.
+  const double tie = 1e-6 * f.size;
+  build_list(f, b, settings.contact_distance + settings.penetration.touching_band * f.size, tie, list);
+  // Points that coincide: a box with a zero extent, a rim of zero radius.
   const Box* box = std::get_if<Box>(&b);
-  if (!box || !(box->half_extents.minCoeff() > 1e-6 * f.size)) merge_coincident(list, 1e-6 * f.size);
+  const bool thin = box ? !(box->half_extents.minCoeff() > tie)
+                        : (std::holds_alternative<Cylinder>(b) && !(std::get<Cylinder>(b).radius > tie)) ||
+                              (std::holds_alternative<Cone>(b) && !(std::get<Cone>(b).radius > tie));
+  if (thin) merge_coincident(list, tie);
     const ContactPath path = std::holds_alternative<Box>(b)       ? ContactPath::face_a
                              : std::holds_alternative<Capsule>(b) ? ContactPath::segment
                              : std::holds_alternative<Sphere>(b)  ? ContactPath::single_point

@@ -164,6 +164,32 @@ TEST(Halfspace, EveryShapeAgreesWithTheExactReference) {
   EXPECT_EQ(compared, 40 * static_cast<int>(shapes.size()));
 }
 
+// A plate thinner than its depth: its top corners are candidates too, and
+// the line down from a top corner crosses the plate, so its depth is
+// measured to where that line leaves the plate's underside.
+TEST(Halfspace, HiddenFeaturesOfAThinPlateGetTheirGapWhereTheLineLeavesTheShape) {
+  const Box plate{Vec(0.5, 0.5, 0.0005), 0.0};
+  Pose pose;
+  // Upside down: the corners with local -z (listed first, so chosen among
+  // corners that coincide in the plane) are the top ones. (Tilted, a top
+  // corner whose side face leans out over the plane has its own gap: the
+  // line down from it leaves the plate at once.)
+  pose.rotation = Eigen::Vector3d(1, -1, -1).asDiagonal();  // exactly: sides exactly vertical
+  pose.translation = Vec(0, 0, -0.001);
+  ContactSettings settings;
+  settings.contact_distance = 0.01;
+  const ContactResult r = contact(Halfspace{}, Pose::identity(), plate, pose, nullptr, settings);
+  ASSERT_EQ(r.count, 4);
+  int top = 0;
+  for (int k = 0; k < r.count; ++k) {
+    const Vec on_b = r.points[k].point - (r.points[k].depth / 2.0) * r.normal;
+    EXPECT_NEAR(testing::surface_distance(plate, pose, on_b), 0.0, 1e-12) << k;
+    EXPECT_NEAR(r.points[k].depth, 0.0015, 1e-12);  // every corner's line leaves the plate at its bottom
+    top += r.points[k].id.incident < 4;
+  }
+  EXPECT_GT(top, 0);  // a hidden corner was measured
+}
+
 TEST(Halfspace, SpeculativePointsComeWithinTheContactDistanceOnly) {
   const Box box{Vec(0.5, 0.5, 0.5), 0.0};
   Pose pose;
