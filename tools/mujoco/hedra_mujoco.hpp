@@ -30,8 +30,9 @@
 // call nothing is allocated: shapes are built at install, each pair's
 // ContactCache lives in a direct-mapped table made at install.
 //
-// The table is global, so install() and reset() must not run while another
-// thread steps. A model that was not installed gets MuJoCo's saved function.
+// Geom types, sizes and meshes are read at install: install again after
+// changing them in the model. The table is global, so install() and reset()
+// must not run while another thread steps. A model that was not installed gets MuJoCo's saved function.
 // MuJoCo 2.2 to 3.8 keep this callback (3.0 adds a geom type: the table is
 // sized from mjNGEOMTYPES); 3.9 changed it.
 #pragma once
