@@ -169,9 +169,15 @@ TEST(MujocoConventions, NormalsPointFromGeom1TowardGeom2) {
 // pair's deepest dist is the exact signed distance, or, where hedra's
 // manifold keeps a face normal within its bias (manifold.hpp) rather than
 // the exact normal, deeper (never shallower) by at most that bias.
-void expect_exact_contacts(const char* scene, int steps) {
+// With exact_hulls, exact to MuJoCo's float vertices; by default within
+// the hulls' float tolerance of them (hedra_mujoco.hpp).
+void expect_exact_contacts(const char* scene, int steps, bool exact_hulls = true) {
   ModelPtr m = load_scene(scene);
-  auto hedra = Narrowphase::install(m.get());
+  InstallOptions options;
+  options.exact_hulls = exact_hulls;
+  auto hedra = Narrowphase::install(m.get(), nullptr, options);
+  const double hull_tolerance = hedra->hull_tolerance();
+  EXPECT_EQ(hull_tolerance == 0.0, exact_hulls);
   DataPtr d(mj_makeData(m.get()));
   for (int s = 0; s < steps; ++s) mj_step(m.get(), d.get());
   mj_forward(m.get(), d.get());  // contacts at the final poses
@@ -185,8 +191,8 @@ void expect_exact_contacts(const char* scene, int steps) {
     const reference::ExactResult on1 = exact.point(d.get(), c.geom1, pos - (c.dist / 2.0) * n);
     const reference::ExactResult on2 = exact.point(d.get(), c.geom2, pos + (c.dist / 2.0) * n);
     ASSERT_TRUE(on1.ok && on2.ok);
-    EXPECT_NEAR(on1.distance, 0.0, 1e-9 * size + on1.error_bound) << scene << " contact " << i;
-    EXPECT_NEAR(on2.distance, 0.0, 1e-9 * size + on2.error_bound) << scene << " contact " << i;
+    EXPECT_NEAR(on1.distance, 0.0, 1e-9 * size + hull_tolerance + on1.error_bound) << scene << " contact " << i;
+    EXPECT_NEAR(on2.distance, 0.0, 1e-9 * size + hull_tolerance + on2.error_bound) << scene << " contact " << i;
     auto [it, fresh] = deepest.insert({{c.geom1, c.geom2}, c.dist});
     if (!fresh) it->second = std::min(it->second, c.dist);
   }
@@ -194,7 +200,7 @@ void expect_exact_contacts(const char* scene, int steps) {
     const reference::ExactResult r = exact.pair(d.get(), pair.first, pair.second);
     ASSERT_TRUE(r.ok) << r.reason;
     const double size = std::max(exact.size(pair.first), exact.size(pair.second));
-    const double tol = 1e-9 * size + r.error_bound;
+    const double tol = 1e-9 * size + 2.0 * hull_tolerance + r.error_bound;
     const collision::ContactSettings settings;
     const double bias = settings.relative_bias * std::abs(r.distance) + settings.absolute_bias * size;
     EXPECT_LE(dist, r.distance + tol) << scene << " geoms " << pair.first << " " << pair.second;
@@ -210,6 +216,27 @@ TEST(MujocoExact, CylinderOnABox) { expect_exact_contacts("cylinder_on_box", 200
 TEST(MujocoExact, CapsuleOnAMeshSlab) { expect_exact_contacts("capsule_on_slab", 200); }
 TEST(MujocoExact, ThinMeshBoxYawedOnABox) { expect_exact_contacts("thin_box_yawed", 200); }
 TEST(MujocoExact, PileOfMeshRocks) { expect_exact_contacts("rocks_30", 300); }
+TEST(MujocoExact, StackOfMeshCubesWithinTheFloatToleranceOfTheDefaultHulls) {
+  expect_exact_contacts("stack_5", 200, false);
+}
+TEST(MujocoExact, PileOfMeshRocksWithinTheFloatToleranceOfTheDefaultHulls) {
+  expect_exact_contacts("rocks_30", 300, false);
+}
+
+// The reason for the float tolerance: MuJoCo's cube, turned into its
+// inertial frame in floats, keeps square faces (four points a resting face)
+// only with it.
+TEST(MujocoMeshes, FloatToleranceKeepsACubesSquareFaces) {
+  ModelPtr m = load_scene("stack_3");
+  auto merged = Narrowphase::install(m.get());
+  const auto& cube = std::get<collision::Polyhedron>(*merged->shape(1));
+  EXPECT_EQ(cube.hull->mesh().face_count(), 6u);
+  merged.reset();
+  InstallOptions exact;
+  exact.exact_hulls = true;
+  auto split = Narrowphase::install(m.get(), nullptr, exact);
+  EXPECT_GT(std::get<collision::Polyhedron>(*split->shape(1)).hull->mesh().face_count(), 6u);
+}
 
 TEST(MujocoMeshes, HullsAreBuiltOncePerMeshSharedAndNothingIsAllocatedPerStep) {
   ModelPtr m = load_scene("rocks_30");  // 6 meshes, 30 geoms

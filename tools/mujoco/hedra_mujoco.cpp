@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace hedra::mujoco {
 
@@ -84,7 +85,9 @@ std::vector<Eigen::Vector3d> mesh_points(const mjModel* m, int mesh) {
   return points;
 }
 
-std::unique_ptr<Narrowphase> Narrowphase::install(const mjModel* m, std::string* error) {
+double float_hull_tolerance(double reach) { return 8.0 * std::numeric_limits<float>::epsilon() * reach; }
+
+std::unique_ptr<Narrowphase> Narrowphase::install(const mjModel* m, std::string* error, const InstallOptions& options) {
   const auto fail = [&](const std::string& message) {
     if (error) *error = message;
     return std::unique_ptr<Narrowphase>();
@@ -99,7 +102,15 @@ std::unique_ptr<Narrowphase> Narrowphase::install(const mjModel* m, std::string*
     const int mesh = m->geom_dataid[g];
     if (m->geom_type[g] != mjGEOM_MESH || mesh < 0 || n->hulls_[mesh]) continue;
     if (m->geom_contype[g] == 0 && m->geom_conaffinity[g] == 0) continue;  // visual only
-    auto built = collision::ConvexPolyhedron::build(mesh_points(m, mesh));
+    const std::vector<Eigen::Vector3d> points = mesh_points(m, mesh);
+    hull::QuickhullOptions hull_options;
+    if (!options.exact_hulls) {
+      double reach = 0.0;
+      for (const Eigen::Vector3d& p : points) reach = std::max(reach, p.cwiseAbs().maxCoeff());
+      hull_options.tolerance = float_hull_tolerance(reach);
+      n->hull_tolerance_ = std::max(n->hull_tolerance_, hull_options.tolerance);
+    }
+    auto built = collision::ConvexPolyhedron::build(points, hull_options);
     if (!built.ok()) return fail("mesh " + std::to_string(mesh) + ": " + built.message);
     n->hulls_[mesh] = built.polyhedron;
     ++n->hulls_built_;

@@ -28,7 +28,15 @@
 // Meshes: the hull of each mesh's vertices (mesh_vert, in the geom's frame)
 // is built once, at install, and shared by every geom using that mesh. Per
 // call nothing is allocated: shapes are built at install, each pair's
-// ContactCache lives in a direct-mapped table made at install.
+// ContactCache lives in a direct-mapped table made at install. MuJoCo
+// stores mesh vertices as floats, turned into the mesh's inertial frame: a
+// cube's square faces are then planar only to float precision, and a hull
+// built to double precision splits each into two triangles (a face contact
+// on a triangle keeps 3 of the square's 4 corners). By default the hull is
+// built with the tolerance of MuJoCo's floats (8 FLT_EPSILON of the mesh's
+// largest coordinate), which merges them; contacts are then exact to within
+// that tolerance of MuJoCo's vertices. InstallOptions::exact_hulls builds
+// them to double precision: exact to MuJoCo's vertices within 1e-9 of the size.
 //
 // Geom types, sizes and meshes are read at install: install again after
 // changing them in the model. The table is global, so install() and reset()
@@ -70,12 +78,20 @@ struct NarrowphaseStats {
   std::uint64_t failures = 0;  // calls whose status was not ok (points kept when finite)
 };
 
+struct InstallOptions {
+  bool exact_hulls = false;  // hulls to double precision, not to MuJoCo's floats (see the top of the file)
+};
+
+// The hull tolerance of a mesh whose largest |coordinate| is `reach`.
+double float_hull_tolerance(double reach);
+
 class Narrowphase {
  public:
   // Builds the shapes and hulls of `m` and installs hedra's pair functions.
   // Null with `error` set when a mesh's hull cannot be built or 16 models
   // are installed already.
-  static std::unique_ptr<Narrowphase> install(const mjModel* m, std::string* error = nullptr);
+  static std::unique_ptr<Narrowphase> install(const mjModel* m, std::string* error = nullptr,
+                                              const InstallOptions& options = {});
   ~Narrowphase();  // uninstalls (MuJoCo's functions back once no model is installed)
   Narrowphase(const Narrowphase&) = delete;
   Narrowphase& operator=(const Narrowphase&) = delete;
@@ -83,6 +99,8 @@ class Narrowphase {
   const mjModel* model() const { return model_; }
   // How many hulls install() built (one per mesh used by a collision geom).
   int hulls_built() const { return hulls_built_; }
+  // The largest tolerance a hull was built with (0 with exact_hulls).
+  double hull_tolerance() const { return hull_tolerance_; }
   const std::vector<std::shared_ptr<const collision::ConvexPolyhedron>>& hulls() const { return hulls_; }
   // hedra's shape for geom g (null for planes and geoms MuJoCo keeps).
   const collision::Shape* shape(int g) const;
@@ -107,6 +125,7 @@ class Narrowphase {
   collision::ContactSettings settings_;
   NarrowphaseStats stats_;
   int hulls_built_ = 0;
+  double hull_tolerance_ = 0.0;
 };
 
 }  // namespace hedra::mujoco
