@@ -84,12 +84,19 @@ def main():
                    f'<freejoint/><geom type="mesh" mesh="rock{i % 6}"/></body>\n')
     scene("rocks_30", "A pile of 30 convex mesh rocks (six meshes shared) dropped on a plane.", assets, bodies,
           "  <size nconmax=\"1000\" njmax=\"4000\"/>\n")
-    # A light mesh box (0.1 kg) under a heavy one (100 kg).
-    scene("light_under_heavy", "A light mesh box (10 cm, 0.1 kg) under a heavy mesh box (20 cm, 100 kg) on the plane.",
-          f'    <mesh name="small" vertex="{box_vertices(0.05, 0.05, 0.05)}"/>\n'
-          f'    <mesh name="large" vertex="{box_vertices(0.1, 0.1, 0.1)}"/>\n',
-          '    <body name="light" pos="0 0 0.05"><freejoint/><geom type="mesh" mesh="small" mass="0.1"/></body>\n'
-          '    <body name="heavy" pos="0 0 0.2"><freejoint/><geom type="mesh" mesh="large" mass="100"/></body>\n')
+    # A light mesh box (0.1 kg) under a heavy one (100 kg): with MuJoCo's
+    # default contact impedance (its stiffness follows the light box's mass)
+    # and with harder contacts (solimp 0.99 0.999 0.0001, MuJoCo's way to
+    # carry such a ratio).
+    for name, extra in (("light_under_heavy", ""),
+                        ("light_under_heavy_stiff", '  <default><geom solimp="0.99 0.999 0.0001"/></default>\n')):
+        scene(name, "A light mesh box (10 cm, 0.1 kg) under a heavy mesh box (20 cm, 100 kg) on the plane"
+              + (", harder contacts." if extra else "."),
+              f'    <mesh name="small" vertex="{box_vertices(0.05, 0.05, 0.05)}"/>\n'
+              f'    <mesh name="large" vertex="{box_vertices(0.1, 0.1, 0.1)}"/>\n',
+              '    <body name="light" pos="0 0 0.05"><freejoint/><geom type="mesh" mesh="small" mass="0.1"/></body>\n'
+              '    <body name="heavy" pos="0 0 0.2"><freejoint/><geom type="mesh" mesh="large" mass="100"/></body>\n',
+              extra)
     # A mesh box (5 cm, 0.1 kg, friction 0.5) held in the air between two
     # mesh fingers on slide joints, each pushed inward by a constant 2 N
     # (a general actuator with a constant bias force and some damping): the
