@@ -4,7 +4,7 @@ hedra, MuJoCo's own single-point MPR and MuJoCo with multiccd, from the same
 start, REPEAT times (the step time is the median of the runs' medians; the
 other figures are the same in every repeat: the runs are deterministic).
 
-  /usr/bin/python3 tools/mujoco/make_table.py build/bin/hedra_mujoco [--seconds 10] [--repeat 3]
+  /usr/bin/python3 tools/mujoco/make_table.py build/bin/hedra_mujoco [--seconds 10] [--repeat 3] [--only NAME]
 """
 import argparse
 import glob
@@ -18,6 +18,7 @@ parser = argparse.ArgumentParser()
 parser.add_argument("program")
 parser.add_argument("--seconds", type=float, default=10.0)
 parser.add_argument("--repeat", type=int, default=3)
+parser.add_argument("--only", default="*", help="scene name pattern (default: every scene)")
 args = parser.parse_args()
 
 
@@ -30,7 +31,7 @@ def runs(scene, *flags):
 print("| scene | narrowphase | max_drift (m) | max_displacement (m) | max_penetration (m) | contacts/step "
       "| step_us | vs multiccd | vs MPR | nan |")
 print("|---|---|---|---|---|---|---|---|---|---|")
-for scene in sorted(glob.glob(os.path.join(here, "scenes", "*.xml"))):
+for scene in sorted(glob.glob(os.path.join(here, "scenes", args.only + ".xml"))):
     table = {}
     for _ in range(args.repeat):
         for r in runs(scene, "--narrowphase", "both") + runs(scene, "--narrowphase", "mujoco", "--multiccd"):
