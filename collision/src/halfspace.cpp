@@ -6,10 +6,14 @@
 // translations first, so bodies far from the origin lose nothing of their
 // size). The candidates are a fixed list per shape (at most ten; a
 // polyhedron's vertices are read in place), so nothing is allocated.
+// A kept point's depth is the gap on its line along n: g of its core point
+// when the line leaves B there (a face at it faces down); otherwise the
+// line's exit, in closed form for sharp boxes, hulls, cylinders and
+// capsules, by one ray cast from below for rounded shapes and cones
+// (raycast.hpp: capped, exact within 1e-10 of B's size).
 //
 // Invariants: the deepest candidate is B's exact support in -n (asserted in
-// debug builds against support()); every returned depth is -g of its own
-// point; at most four points.
+// debug builds against support()); at most four points.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -157,8 +161,7 @@ struct HullCandidates {
 };
 
 void build_list(const Frame& f, const Shape& b, double threshold, double tie, CandidateList& list) {
-  if (const auto* s = std::get_if<Sphere>(&b)) {
-    (void)s;
+  if (std::holds_alternative<Sphere>(b)) {
     list.add(f, Eigen::Vector3d::Zero(), feature(FeatureKind::single, hull::kInvalidIndex, 0));
   } else if (const auto* box = std::get_if<Box>(&b)) {
     const Eigen::Vector3d& e = box->half_extents;
@@ -309,10 +312,7 @@ bool leaves_at(const Shape& b, const Frame& f, const Candidate& c) {
     return false;
   }
   const Eigen::Vector3d radial(c.p.x(), c.p.y(), 0.0);
-  if (const auto* cylinder = std::get_if<Cylinder>(&b)) {
-    return (c.p.z() > 0.0 ? u.z() : -u.z()) < 0.0 || dot3(radial, u) < 0.0;
-    (void)cylinder;
-  }
+  if (std::holds_alternative<Cylinder>(b)) return (c.p.z() > 0.0 ? u.z() : -u.z()) < 0.0 || dot3(radial, u) < 0.0;
   if (const auto* cone = std::get_if<Cone>(&b)) {
     if (c.id.incident == 5) {  // the apex: the line goes into the cone when -u lies in its angle
       const double down = u.z(), across = f.across;

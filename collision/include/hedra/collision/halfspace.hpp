@@ -36,9 +36,14 @@
 // ContactSettings::hold > 0 the last four are kept while they hold, as in
 // manifold.hpp.
 //
-// Status: invalid_input for an invalid halfspace or shape or a pose that is
-// not Pose::valid(); otherwise ok. No allocation, no iteration (the
-// polyhedron's scan visits each vertex a few times).
+// A point whose line along -n runs on inside B (a rounded shape's, or a
+// corner under a thin plate's top) gets the gap to where the line leaves B:
+// closed forms, or one ray cast for rounded shapes and cones.
+//
+// Status: invalid_input for an invalid halfspace or shape, a pose that is
+// not Pose::valid(), a pair out of range (query.hpp; the extent is B's size
+// or its distance to the plane) or a non-finite contact distance; otherwise
+// ok. No allocation; the polyhedron's scan visits each vertex a few times.
 #pragma once
 
 #include <Eigen/Core>
