@@ -1,0 +1,181 @@
+// The batch queries: hedra.intersect_many, distance_many, penetration_many,
+// contact_many and raycast_many. Arguments are checked with the GIL held
+// (poses converted into one vector); the C++ batch and the copy into the
+// new numpy arrays run with it released. Row i is the single query on row i
+// (the C++ batch guarantees the same bits for any thread count).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include "args.hpp"
+#include "columns.hpp"
+#include "queries.hpp"
+#include "shapes.hpp"
+
+#if __has_include(<hedra/collision/batch.hpp>)
+#  include <hedra/collision/batch.hpp>
+namespace batch = hedra::collision;
+#else
+#  include "batch_fallback.hpp"
+namespace batch = hedra::python::fallback;
+#endif
+
+namespace hedra::python {
+
+void bind_batches(py::module_& m);
+
+namespace {
+
+using namespace collision;
+
+batch::PoseSpan span(const PoseBatch& poses) { return {poses.poses.data(), poses.poses.size()}; }
+
+batch::ParallelSettings parallel_settings(int threads) {
+  batch::ParallelSettings parallel;
+  parallel.threads = threads;
+  return parallel;
+}
+
+// The checked arguments of a pair batch.
+struct PairBatch {
+  PairBatch(py::handle a_, py::handle poses_a_, py::handle b_, py::handle poses_b_, py::handle threads_)
+      : a(to_shape(a_, "a")),
+        poses_a(to_pose_batch(poses_a_, "poses_a")),
+        b(to_shape(b_, "b")),
+        poses_b(to_pose_batch(poses_b_, "poses_b")),
+        rows(broadcast_rows(poses_a, "poses_a", poses_b, "poses_b")),
+        parallel(parallel_settings(to_threads(threads_))) {}
+  const Shape& a;
+  PoseBatch poses_a;
+  const Shape& b;
+  PoseBatch poses_b;
+  std::size_t rows;
+  batch::ParallelSettings parallel;
+};
+
+// Runs `run(results)` and copies the results into the columns of `kind`,
+// both without the GIL.
+template <class Result, class Run>
+py::dict run_batch(QueryKind kind, std::size_t rows, Run&& run) {
+  std::vector<Result> results(rows);
+  py::dict dict;
+  const Columns columns = add_columns(dict, kind, rows);
+  {
+    py::gil_scoped_release release;
+    run(results.data());
+    for (std::size_t i = 0; i < rows; ++i) put_row(columns, i, results[i]);
+  }
+  return dict;
+}
+
+}  // namespace
+
+void bind_batches(py::module_& m) {
+  m.def(
+      "intersect_many",
+      [](py::handle a, py::handle poses_a, py::handle b, py::handle poses_b, py::handle threads, py::handle settings) {
+        const PairBatch p(a, poses_a, b, poses_b, threads);
+        const GjkSettings s = to_settings<GjkSettings>(settings, "GjkSettings");
+        return run_batch<IntersectResult>(QueryKind::intersect, p.rows, [&](IntersectResult* out) {
+          batch::intersect_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
+        });
+      },
+      py::arg("a"), py::arg("poses_a"), py::arg("b"), py::arg("poses_b"), py::kw_only(), py::arg("threads") = 0,
+      py::arg("settings") = py::none(),
+      "intersect() on N pose pairs: a dict of arrays 'intersecting' (N,) bool and 'status' (N,) int8.");
+  m.def(
+      "distance_many",
+      [](py::handle a, py::handle poses_a, py::handle b, py::handle poses_b, py::handle threads, py::handle settings) {
+        const PairBatch p(a, poses_a, b, poses_b, threads);
+        const GjkSettings s = to_settings<GjkSettings>(settings, "GjkSettings");
+        return run_batch<DistanceResult>(QueryKind::distance, p.rows, [&](DistanceResult* out) {
+          batch::distance_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
+        });
+      },
+      py::arg("a"), py::arg("poses_a"), py::arg("b"), py::arg("poses_b"), py::kw_only(), py::arg("threads") = 0,
+      py::arg("settings") = py::none(),
+      "distance() on N pose pairs: a dict of arrays distance, normal, point_a, point_b, intersecting, error_bound, "
+      "status.");
+  m.def(
+      "penetration_many",
+      [](py::handle a, py::handle poses_a, py::handle b, py::handle poses_b, py::handle threads, py::handle settings) {
+        const PairBatch p(a, poses_a, b, poses_b, threads);
+        const PenetrationSettings s = to_settings<PenetrationSettings>(settings, "PenetrationSettings");
+        return run_batch<PenetrationResult>(QueryKind::penetration, p.rows, [&](PenetrationResult* out) {
+          batch::penetration_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
+        });
+      },
+      py::arg("a"), py::arg("poses_a"), py::arg("b"), py::arg("poses_b"), py::kw_only(), py::arg("threads") = 0,
+      py::arg("settings") = py::none(),
+      "penetration() on N pose pairs: a dict of arrays distance (signed), normal, point_a, point_b, intersecting, "
+      "error_bound, status.");
+  m.def(
+      "contact_many",
+      [](py::handle a, py::handle poses_a, py::handle b, py::handle poses_b, py::handle contact_distance,
+         py::handle threads, py::handle settings) {
+        const PairBatch p(a, poses_a, b, poses_b, threads);
+        ContactSettings s = to_settings<ContactSettings>(settings, "ContactSettings");
+        s.contact_distance = to_non_negative(contact_distance, "contact_distance");
+        return run_batch<ContactResult>(QueryKind::contact, p.rows, [&](ContactResult* out) {
+          batch::contact_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
+        });
+      },
+      py::arg("a"), py::arg("poses_a"), py::arg("b"), py::arg("poses_b"), py::kw_only(),
+      py::arg("contact_distance") = 0.0, py::arg("threads") = 0, py::arg("settings") = py::none(),
+      "contact() on N pose pairs: the arrays of penetration_many (but error_bound) plus count (N,), points (N, 4, 3) "
+      "and depths (N, 4), unused slots zero.");
+  m.def(
+      "raycast_many",
+      [](py::handle shape, py::handle pose, py::handle origins, py::handle directions, py::handle max_fraction,
+         py::handle threads, py::handle settings) {
+        const Shape& sh = to_shape(shape, "shape");
+        const Pose p = to_pose(pose, "pose");
+        const py::array_t<double> o = to_real_array(origins, "origins");
+        const py::array_t<double> d = to_real_array(directions, "directions");
+        const auto rows_of = [](const py::array_t<double>& a, const char* name) -> py::ssize_t {
+          if (a.ndim() == 1 && a.shape(0) == 3) return -1;  // one, broadcast
+          if (a.ndim() == 2 && a.shape(1) == 3) return a.shape(0);
+          value_error(name, "expected shape (N, 3) or (3,)");
+        };
+        const py::ssize_t no = rows_of(o, "origins"), nd = rows_of(d, "directions");
+        if (no >= 0 && nd >= 0 && no != nd)
+          throw py::value_error("origins has " + std::to_string(no) + " rows and directions has " + std::to_string(nd) +
+                                ": they must have the same length (or one (3,), broadcast)");
+        const auto rows = static_cast<std::size_t>(std::max<py::ssize_t>(std::max(no, nd), no < 0 && nd < 0 ? 1 : 0));
+        const double f = to_non_negative(max_fraction, "max_fraction");
+        const batch::ParallelSettings parallel = parallel_settings(to_threads(threads));
+        const RaycastSettings s = to_settings<RaycastSettings>(settings, "RaycastSettings");
+        std::vector<Eigen::Vector3d> ov(rows), dv(rows);
+        for (std::size_t i = 0; i < rows; ++i) {
+          const double* oi = o.data() + (no < 0 ? 0 : 3 * i);
+          const double* di = d.data() + (nd < 0 ? 0 : 3 * i);
+          ov[i] = {oi[0], oi[1], oi[2]};
+          dv[i] = {di[0], di[1], di[2]};
+        }
+        std::vector<RaycastResult> results(rows);
+        py::dict dict;
+        const auto n = static_cast<py::ssize_t>(rows);
+        bool* hit = add_column<bool>(dict, "hit", {n});
+        double* fraction = add_column<double>(dict, "fraction", {n});
+        double* point = add_column<double>(dict, "point", {n, 3});
+        double* normal = add_column<double>(dict, "normal", {n, 3});
+        double* error_bound = add_column<double>(dict, "error_bound", {n});
+        std::int8_t* status = add_column<std::int8_t>(dict, "status", {n});
+        {
+          py::gil_scoped_release release;
+          batch::raycast_many(sh, p, ov.data(), dv.data(), rows, f, results.data(), parallel, s);
+          for (std::size_t i = 0; i < rows; ++i) {
+            const RaycastResult& r = results[i];
+            hit[i] = r.hit, fraction[i] = r.fraction, error_bound[i] = r.error_bound;
+            status[i] = status_code(r.status);
+            put(point + 3 * i, r.point), put(normal + 3 * i, r.normal);
+          }
+        }
+        return dict;
+      },
+      py::arg("shape"), py::arg("pose"), py::arg("origins"), py::arg("directions"), py::kw_only(),
+      py::arg("max_fraction") = 1.0, py::arg("threads") = 0, py::arg("settings") = py::none(),
+      "raycast() of N rays (origins and directions (N, 3), or one (3,) broadcast) against one posed shape: a dict "
+      "of arrays hit, fraction, point, normal, error_bound, status.");
+}
+
+}  // namespace hedra::python
