@@ -21,6 +21,7 @@ packages=(
   libqhull-dev                                   # the exact reference
   libccd-dev libfcl-dev libbullet-dev            # peers (HEDRA_WITH_PEERS)
   python3-matplotlib                             # plots
+  pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (tools/python/) and its tests
   libjs-three                                    # three.js, embedded into `hedra view` pages
   chromium                                       # headless browser for the `hedra view` page tests
 )

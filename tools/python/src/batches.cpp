@@ -6,18 +6,12 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <hedra/collision/batch.hpp>
+
 #include "args.hpp"
 #include "columns.hpp"
 #include "queries.hpp"
 #include "shapes.hpp"
-
-#if __has_include(<hedra/collision/batch.hpp>)
-#  include <hedra/collision/batch.hpp>
-namespace batch = hedra::collision;
-#else
-#  include "batch_fallback.hpp"
-namespace batch = hedra::python::fallback;
-#endif
 
 namespace hedra::python {
 
@@ -27,10 +21,10 @@ namespace {
 
 using namespace collision;
 
-batch::PoseSpan span(const PoseBatch& poses) { return {poses.poses.data(), poses.poses.size()}; }
+collision::PoseSpan span(const PoseBatch& poses) { return {poses.poses.data(), poses.poses.size()}; }
 
-batch::ParallelSettings parallel_settings(int threads) {
-  batch::ParallelSettings parallel;
+collision::ParallelSettings parallel_settings(int threads) {
+  collision::ParallelSettings parallel;
   parallel.threads = threads;
   return parallel;
 }
@@ -49,7 +43,7 @@ struct PairBatch {
   const Shape& b;
   PoseBatch poses_b;
   std::size_t rows;
-  batch::ParallelSettings parallel;
+  collision::ParallelSettings parallel;
 };
 
 // Runs `run(results)` and copies the results into the columns of `kind`,
@@ -76,7 +70,7 @@ void bind_batches(py::module_& m) {
         const PairBatch p(a, poses_a, b, poses_b, threads);
         const GjkSettings s = to_settings<GjkSettings>(settings, "GjkSettings");
         return run_batch<IntersectResult>(QueryKind::intersect, p.rows, [&](IntersectResult* out) {
-          batch::intersect_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
+          collision::intersect_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
         });
       },
       py::arg("a"), py::arg("poses_a"), py::arg("b"), py::arg("poses_b"), py::kw_only(), py::arg("threads") = 0,
@@ -88,7 +82,7 @@ void bind_batches(py::module_& m) {
         const PairBatch p(a, poses_a, b, poses_b, threads);
         const GjkSettings s = to_settings<GjkSettings>(settings, "GjkSettings");
         return run_batch<DistanceResult>(QueryKind::distance, p.rows, [&](DistanceResult* out) {
-          batch::distance_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
+          collision::distance_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
         });
       },
       py::arg("a"), py::arg("poses_a"), py::arg("b"), py::arg("poses_b"), py::kw_only(), py::arg("threads") = 0,
@@ -101,7 +95,7 @@ void bind_batches(py::module_& m) {
         const PairBatch p(a, poses_a, b, poses_b, threads);
         const PenetrationSettings s = to_settings<PenetrationSettings>(settings, "PenetrationSettings");
         return run_batch<PenetrationResult>(QueryKind::penetration, p.rows, [&](PenetrationResult* out) {
-          batch::penetration_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
+          collision::penetration_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
         });
       },
       py::arg("a"), py::arg("poses_a"), py::arg("b"), py::arg("poses_b"), py::kw_only(), py::arg("threads") = 0,
@@ -116,7 +110,7 @@ void bind_batches(py::module_& m) {
         ContactSettings s = to_settings<ContactSettings>(settings, "ContactSettings");
         s.contact_distance = to_non_negative(contact_distance, "contact_distance");
         return run_batch<ContactResult>(QueryKind::contact, p.rows, [&](ContactResult* out) {
-          batch::contact_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
+          collision::contact_many(p.a, span(p.poses_a), p.b, span(p.poses_b), p.rows, out, p.parallel, s);
         });
       },
       py::arg("a"), py::arg("poses_a"), py::arg("b"), py::arg("poses_b"), py::kw_only(),
@@ -142,7 +136,7 @@ void bind_batches(py::module_& m) {
                                 ": they must have the same length (or one (3,), broadcast)");
         const auto rows = static_cast<std::size_t>(std::max<py::ssize_t>(std::max(no, nd), no < 0 && nd < 0 ? 1 : 0));
         const double f = to_non_negative(max_fraction, "max_fraction");
-        const batch::ParallelSettings parallel = parallel_settings(to_threads(threads));
+        const collision::ParallelSettings parallel = parallel_settings(to_threads(threads));
         const RaycastSettings s = to_settings<RaycastSettings>(settings, "RaycastSettings");
         std::vector<Eigen::Vector3d> ov(rows), dv(rows);
         for (std::size_t i = 0; i < rows; ++i) {
@@ -162,7 +156,7 @@ void bind_batches(py::module_& m) {
         std::int8_t* status = add_column<std::int8_t>(dict, "status", {n});
         {
           py::gil_scoped_release release;
-          batch::raycast_many(sh, p, ov.data(), dv.data(), rows, f, results.data(), parallel, s);
+          collision::raycast_many(sh, p, ov.data(), dv.data(), rows, f, results.data(), parallel, s);
           for (std::size_t i = 0; i < rows; ++i) {
             const RaycastResult& r = results[i];
             hit[i] = r.hit, fraction[i] = r.fraction, error_bound[i] = r.error_bound;

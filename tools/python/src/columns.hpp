@@ -71,6 +71,7 @@ void put_row(const Columns& c, std::size_t i, const R& r) {
   c.status[i] = status_code(r.status);
   c.intersecting[i] = r.intersecting;
   if constexpr (!std::is_same_v<R, collision::IntersectResult>) {
+    if (!c.distance) return;  // an intersect query's columns
     c.distance[i] = r.distance;
     put(c.normal + 3 * i, r.normal);
     put(c.point_a + 3 * i, r.point_a);

@@ -6,6 +6,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <hedra/collision/world.hpp>
 #include <mutex>
 #include <sstream>
 
@@ -14,16 +15,10 @@
 #include "queries.hpp"
 #include "shapes.hpp"
 
-#if __has_include(<hedra/collision/world.hpp>)
-#  include <hedra/collision/world.hpp>
-#  define HEDRA_PYTHON_HAS_WORLD 1
-#endif
-
 namespace hedra::python {
 
 void bind_scene(py::module_& m);
 
-#ifdef HEDRA_PYTHON_HAS_WORLD
 namespace {
 
 using namespace collision;
@@ -144,8 +139,5 @@ void bind_scene(py::module_& m) {
       .def("__len__", &Scene::size)
       .def("__repr__", [](const Scene& s) { return "Scene(<" + std::to_string(s.size()) + " bodies>)"; });
 }
-#else
-void bind_scene(py::module_&) {}
-#endif
 
 }  // namespace hedra::python
