@@ -61,6 +61,55 @@ py::dict run_batch(QueryKind kind, std::size_t rows, Run&& run) {
   return dict;
 }
 
+// raycast_many: rays (N, 3) or one (3,) broadcast, against one posed shape.
+py::dict raycast_rows(py::handle shape, py::handle pose, py::handle origins, py::handle directions,
+                      py::handle max_fraction, py::handle threads, py::handle settings) {
+  const Shape& sh = to_shape(shape, "shape");
+  const Pose p = to_pose(pose, "pose");
+  const py::array_t<double> o = to_real_array(origins, "origins");
+  const py::array_t<double> d = to_real_array(directions, "directions");
+  const auto rows_of = [](const py::array_t<double>& a, const char* name) -> py::ssize_t {
+    if (a.ndim() == 1 && a.shape(0) == 3) return -1;  // one, broadcast
+    if (a.ndim() == 2 && a.shape(1) == 3) return a.shape(0);
+    value_error(name, "expected shape (N, 3) or (3,)");
+  };
+  const py::ssize_t no = rows_of(o, "origins"), nd = rows_of(d, "directions");
+  if (no >= 0 && nd >= 0 && no != nd)
+    throw py::value_error("origins has " + std::to_string(no) + " rows and directions has " + std::to_string(nd) +
+                          ": they must have the same length (or one (3,), broadcast)");
+  const auto rows = static_cast<std::size_t>(std::max<py::ssize_t>(std::max(no, nd), no < 0 && nd < 0 ? 1 : 0));
+  const double f = to_non_negative(max_fraction, "max_fraction");
+  const collision::ParallelSettings parallel = parallel_settings(to_threads(threads));
+  const RaycastSettings s = to_settings<RaycastSettings>(settings, "RaycastSettings");
+  std::vector<Eigen::Vector3d> ov(rows), dv(rows);
+  for (std::size_t i = 0; i < rows; ++i) {
+    const double* oi = o.data() + (no < 0 ? 0 : 3 * i);
+    const double* di = d.data() + (nd < 0 ? 0 : 3 * i);
+    ov[i] = {oi[0], oi[1], oi[2]};
+    dv[i] = {di[0], di[1], di[2]};
+  }
+  std::vector<RaycastResult> results(rows);
+  py::dict dict;
+  const auto n = static_cast<py::ssize_t>(rows);
+  bool* hit = add_column<bool>(dict, "hit", {n});
+  double* fraction = add_column<double>(dict, "fraction", {n});
+  double* point = add_column<double>(dict, "point", {n, 3});
+  double* normal = add_column<double>(dict, "normal", {n, 3});
+  double* error_bound = add_column<double>(dict, "error_bound", {n});
+  std::int8_t* status = add_column<std::int8_t>(dict, "status", {n});
+  {
+    py::gil_scoped_release release;
+    collision::raycast_many(sh, p, ov.data(), dv.data(), rows, f, results.data(), parallel, s);
+    for (std::size_t i = 0; i < rows; ++i) {
+      const RaycastResult& r = results[i];
+      hit[i] = r.hit, fraction[i] = r.fraction, error_bound[i] = r.error_bound;
+      status[i] = status_code(r.status);
+      put(point + 3 * i, r.point), put(normal + 3 * i, r.normal);
+    }
+  }
+  return dict;
+}
+
 }  // namespace
 
 void bind_batches(py::module_& m) {
@@ -117,59 +166,10 @@ void bind_batches(py::module_& m) {
       py::arg("contact_distance") = 0.0, py::arg("threads") = 0, py::arg("settings") = py::none(),
       "contact() on N pose pairs: the arrays of penetration_many (but error_bound) plus count (N,), points (N, 4, 3) "
       "and depths (N, 4), unused slots zero.");
-  m.def(
-      "raycast_many",
-      [](py::handle shape, py::handle pose, py::handle origins, py::handle directions, py::handle max_fraction,
-         py::handle threads, py::handle settings) {
-        const Shape& sh = to_shape(shape, "shape");
-        const Pose p = to_pose(pose, "pose");
-        const py::array_t<double> o = to_real_array(origins, "origins");
-        const py::array_t<double> d = to_real_array(directions, "directions");
-        const auto rows_of = [](const py::array_t<double>& a, const char* name) -> py::ssize_t {
-          if (a.ndim() == 1 && a.shape(0) == 3) return -1;  // one, broadcast
-          if (a.ndim() == 2 && a.shape(1) == 3) return a.shape(0);
-          value_error(name, "expected shape (N, 3) or (3,)");
-        };
-        const py::ssize_t no = rows_of(o, "origins"), nd = rows_of(d, "directions");
-        if (no >= 0 && nd >= 0 && no != nd)
-          throw py::value_error("origins has " + std::to_string(no) + " rows and directions has " + std::to_string(nd) +
-                                ": they must have the same length (or one (3,), broadcast)");
-        const auto rows = static_cast<std::size_t>(std::max<py::ssize_t>(std::max(no, nd), no < 0 && nd < 0 ? 1 : 0));
-        const double f = to_non_negative(max_fraction, "max_fraction");
-        const collision::ParallelSettings parallel = parallel_settings(to_threads(threads));
-        const RaycastSettings s = to_settings<RaycastSettings>(settings, "RaycastSettings");
-        std::vector<Eigen::Vector3d> ov(rows), dv(rows);
-        for (std::size_t i = 0; i < rows; ++i) {
-          const double* oi = o.data() + (no < 0 ? 0 : 3 * i);
-          const double* di = d.data() + (nd < 0 ? 0 : 3 * i);
-          ov[i] = {oi[0], oi[1], oi[2]};
-          dv[i] = {di[0], di[1], di[2]};
-        }
-        std::vector<RaycastResult> results(rows);
-        py::dict dict;
-        const auto n = static_cast<py::ssize_t>(rows);
-        bool* hit = add_column<bool>(dict, "hit", {n});
-        double* fraction = add_column<double>(dict, "fraction", {n});
-        double* point = add_column<double>(dict, "point", {n, 3});
-        double* normal = add_column<double>(dict, "normal", {n, 3});
-        double* error_bound = add_column<double>(dict, "error_bound", {n});
-        std::int8_t* status = add_column<std::int8_t>(dict, "status", {n});
-        {
-          py::gil_scoped_release release;
-          collision::raycast_many(sh, p, ov.data(), dv.data(), rows, f, results.data(), parallel, s);
-          for (std::size_t i = 0; i < rows; ++i) {
-            const RaycastResult& r = results[i];
-            hit[i] = r.hit, fraction[i] = r.fraction, error_bound[i] = r.error_bound;
-            status[i] = status_code(r.status);
-            put(point + 3 * i, r.point), put(normal + 3 * i, r.normal);
-          }
-        }
-        return dict;
-      },
-      py::arg("shape"), py::arg("pose"), py::arg("origins"), py::arg("directions"), py::kw_only(),
-      py::arg("max_fraction") = 1.0, py::arg("threads") = 0, py::arg("settings") = py::none(),
-      "raycast() of N rays (origins and directions (N, 3), or one (3,) broadcast) against one posed shape: a dict "
-      "of arrays hit, fraction, point, normal, error_bound, status.");
+  m.def("raycast_many", &raycast_rows, py::arg("shape"), py::arg("pose"), py::arg("origins"), py::arg("directions"),
+        py::kw_only(), py::arg("max_fraction") = 1.0, py::arg("threads") = 0, py::arg("settings") = py::none(),
+        "raycast() of N rays (origins and directions (N, 3), or one (3,) broadcast) against one posed shape: a dict "
+        "of arrays hit, fraction, point, normal, error_bound, status.");
 }
 
 }  // namespace hedra::python

@@ -129,6 +129,74 @@ void register_shape_type(std::size_t slot, const py::handle& cls) {
                        [](void* value) -> const ShapeObject* { return static_cast<const Object*>(value); }};
 }
 
+// Capsule, Cylinder and Cone share (radius, half_length, margin).
+template <class Object, class Value>
+void bind_round(py::module_& m, const char* name, const char* doc) {
+  const std::string class_name = name;
+  py::class_<Object, ShapeObject>(m, name, py::is_final(), doc)
+      .def(py::init([](py::object radius, py::object half_length, py::object margin) {
+             return make<Object>(Value{to_non_negative(radius, "radius"), to_non_negative(half_length, "half_length"),
+                                       to_non_negative(margin, "margin")});
+           }),
+           py::arg("radius"), py::arg("half_length"), py::kw_only(), py::arg("margin") = 0.0)
+      .def_property_readonly("radius", [](const ShapeObject& o) { return get<Value>(o).radius; })
+      .def_property_readonly("half_length", [](const ShapeObject& o) { return get<Value>(o).half_length; })
+      .def("__repr__",
+           [class_name](const ShapeObject& o) {
+             const auto& s = get<Value>(o);
+             return class_name + "(radius=" + number(s.radius) + ", half_length=" + number(s.half_length) +
+                    ", margin=" + number(s.margin) + ")";
+           })
+      .def(py::pickle(
+          [](const ShapeObject& o) {
+            const auto& s = get<Value>(o);
+            return py::make_tuple(s.radius, s.half_length, s.margin);
+          },
+          [class_name](const py::tuple& t) {
+            if (t.size() != 3) throw py::value_error(class_name + ": bad pickled state");
+            return make<Object>(Value{to_non_negative(t[0], "radius"), to_non_negative(t[1], "half_length"),
+                                      to_non_negative(t[2], "margin")});
+          }));
+}
+
+void bind_hull(py::module_& m) {
+  py::class_<HullObject, ShapeObject>(
+      m, "ConvexHull", py::is_final(),
+      "The convex hull of `points` (N, 3) (quickhull). Flat or collinear points give a flat, segment or point hull.")
+      .def(py::init([](py::object points, py::object margin) {
+             return make_hull(points, to_non_negative(margin, "margin"));
+           }),
+           py::arg("points"), py::kw_only(), py::arg("margin") = 0.0)
+      .def_property_readonly("vertices", &hull_vertices, "The hull's vertices (V, 3), in the frame of the points.")
+      .def_property_readonly("faces", &hull_faces,
+                             "The faces: a list of int64 arrays of vertex indices, counter-clockwise from outside.")
+      .def_property_readonly("triangles", &hull_triangles,
+                             "The faces fanned into triangles (T, 3) int64, counter-clockwise from outside.")
+      .def_property_readonly(
+          "volume", [](const ShapeObject& o) { return hull::mass_properties(hull_of(o).mesh()).volume; },
+          "The hull's volume (margin not included; 0 when flat).")
+      .def_property_readonly(
+          "area", [](const ShapeObject& o) { return hull::mass_properties(hull_of(o).mesh()).surface_area; },
+          "The hull's surface area (margin not included).")
+      .def_property_readonly(
+          "centroid", [](const ShapeObject& o) { return vector_array(hull_of(o).offset()); },
+          "The hull's centroid (solid; area centroid when flat), in the frame of the points.")
+      .def_property_readonly("points", &points_array, "The points the hull was built from (N, 3).")
+      .def("__repr__",
+           [](const ShapeObject& o) {
+             const ConvexPolyhedron& h = hull_of(o);
+             std::ostringstream out;
+             out << "ConvexHull(<" << h.vertex_count() << " vertices, " << h.mesh().face_count()
+                 << " faces>, margin=" << number(get<Polyhedron>(o).margin) << ")";
+             return out.str();
+           })
+      .def(py::pickle([](const HullObject& o) { return py::make_tuple(points_array(o), get<Polyhedron>(o).margin); },
+                      [](const py::tuple& t) {
+                        if (t.size() != 2) throw py::value_error("ConvexHull: bad pickled state");
+                        return make_hull(t[0], to_non_negative(t[1], "margin"));
+                      }));
+}
+
 }  // namespace
 
 const collision::Shape& to_shape(py::handle object, const char* name) {
@@ -196,78 +264,14 @@ void bind_shapes(py::module_& m) {
             return make<BoxObject>(Box{to_vector3(t[0], "half_extents"), to_non_negative(t[1], "margin")});
           }));
 
-  // Capsule, Cylinder and Cone share (radius, half_length, margin).
-  const auto bind_round = [&m](auto tag, const char* name, const char* doc) {
-    using Object = typename decltype(tag)::first_type;
-    using Value = typename decltype(tag)::second_type;
-    const std::string class_name = name;
-    py::class_<Object, ShapeObject>(m, name, py::is_final(), doc)
-        .def(py::init([](py::object radius, py::object half_length, py::object margin) {
-               return make<Object>(Value{to_non_negative(radius, "radius"), to_non_negative(half_length, "half_length"),
-                                         to_non_negative(margin, "margin")});
-             }),
-             py::arg("radius"), py::arg("half_length"), py::kw_only(), py::arg("margin") = 0.0)
-        .def_property_readonly("radius", [](const ShapeObject& o) { return get<Value>(o).radius; })
-        .def_property_readonly("half_length", [](const ShapeObject& o) { return get<Value>(o).half_length; })
-        .def("__repr__",
-             [class_name](const ShapeObject& o) {
-               const auto& s = get<Value>(o);
-               return class_name + "(radius=" + number(s.radius) + ", half_length=" + number(s.half_length) +
-                      ", margin=" + number(s.margin) + ")";
-             })
-        .def(py::pickle(
-            [](const ShapeObject& o) {
-              const auto& s = get<Value>(o);
-              return py::make_tuple(s.radius, s.half_length, s.margin);
-            },
-            [class_name](const py::tuple& t) {
-              if (t.size() != 3) throw py::value_error(class_name + ": bad pickled state");
-              return make<Object>(Value{to_non_negative(t[0], "radius"), to_non_negative(t[1], "half_length"),
-                                        to_non_negative(t[2], "margin")});
-            }));
-  };
-  bind_round(std::pair<CapsuleObject, Capsule>{}, "Capsule",
-             "The segment from (0, 0, -half_length) to (0, 0, +half_length) swept by a ball of `radius`.");
-  bind_round(std::pair<CylinderObject, Cylinder>{}, "Cylinder",
-             "A cylinder of `radius` about the z axis, from z = -half_length to +half_length.");
-  bind_round(std::pair<ConeObject, Cone>{}, "Cone",
-             "A cone about the z axis: apex at (0, 0, +half_length), base disc of `radius` at z = -half_length.");
+  bind_round<CapsuleObject, Capsule>(
+      m, "Capsule", "The segment from (0, 0, -half_length) to (0, 0, +half_length) swept by a ball of `radius`.");
+  bind_round<CylinderObject, Cylinder>(
+      m, "Cylinder", "A cylinder of `radius` about the z axis, from z = -half_length to +half_length.");
+  bind_round<ConeObject, Cone>(
+      m, "Cone", "A cone about the z axis: apex at (0, 0, +half_length), base disc of `radius` at z = -half_length.");
 
-  py::class_<HullObject, ShapeObject>(
-      m, "ConvexHull", py::is_final(),
-      "The convex hull of `points` (N, 3) (quickhull). Flat or collinear points give a flat, segment or point hull.")
-      .def(py::init([](py::object points, py::object margin) {
-             return make_hull(points, to_non_negative(margin, "margin"));
-           }),
-           py::arg("points"), py::kw_only(), py::arg("margin") = 0.0)
-      .def_property_readonly("vertices", &hull_vertices, "The hull's vertices (V, 3), in the frame of the points.")
-      .def_property_readonly("faces", &hull_faces,
-                             "The faces: a list of int64 arrays of vertex indices, counter-clockwise from outside.")
-      .def_property_readonly("triangles", &hull_triangles,
-                             "The faces fanned into triangles (T, 3) int64, counter-clockwise from outside.")
-      .def_property_readonly(
-          "volume", [](const ShapeObject& o) { return hull::mass_properties(hull_of(o).mesh()).volume; },
-          "The hull's volume (margin not included; 0 when flat).")
-      .def_property_readonly(
-          "area", [](const ShapeObject& o) { return hull::mass_properties(hull_of(o).mesh()).surface_area; },
-          "The hull's surface area (margin not included).")
-      .def_property_readonly(
-          "centroid", [](const ShapeObject& o) { return vector_array(hull_of(o).offset()); },
-          "The hull's centroid (solid; area centroid when flat), in the frame of the points.")
-      .def_property_readonly("points", &points_array, "The points the hull was built from (N, 3).")
-      .def("__repr__",
-           [](const ShapeObject& o) {
-             const ConvexPolyhedron& h = hull_of(o);
-             std::ostringstream out;
-             out << "ConvexHull(<" << h.vertex_count() << " vertices, " << h.mesh().face_count()
-                 << " faces>, margin=" << number(get<Polyhedron>(o).margin) << ")";
-             return out.str();
-           })
-      .def(py::pickle([](const HullObject& o) { return py::make_tuple(points_array(o), get<Polyhedron>(o).margin); },
-                      [](const py::tuple& t) {
-                        if (t.size() != 2) throw py::value_error("ConvexHull: bad pickled state");
-                        return make_hull(t[0], to_non_negative(t[1], "margin"));
-                      }));
+  bind_hull(m);
 
   register_shape_type<SphereObject>(0, m.attr("Sphere"));
   register_shape_type<BoxObject>(1, m.attr("Box"));
