@@ -66,6 +66,9 @@ GOOD = pose7((0, 0, 2))
         (lambda: hedra.penetration_many(BOX, np.eye(4), BALL, GOOD, threads=1.5), TypeError, "threads"),
         (lambda: hedra.penetration_many(BOX, np.eye(4), BALL, GOOD, threads=None), TypeError, "threads"),
         (lambda: hedra.raycast_many(BOX, np.eye(4), np.zeros((2, 2)), [1, 0, 0]), ValueError, "origins"),
+        (lambda: hedra.raycast(BOX, np.eye(4), [0, 0, 3], [0, 0, 0]), ValueError, "direction: a zero vector"),
+        (lambda: hedra.raycast_many(BOX, np.eye(4), np.ones((3, 3)), np.eye(3) * [1, 0, 1]), ValueError,
+         r"directions\[1\]: a zero vector"),
     ],
 )
 def test_bad_input_raises_with_a_message(make, error, words):

@@ -87,6 +87,9 @@ py::dict raycast_rows(py::handle shape, py::handle pose, py::handle origins, py:
     const double* di = d.data() + (nd < 0 ? 0 : 3 * i);
     ov[i] = {oi[0], oi[1], oi[2]};
     dv[i] = {di[0], di[1], di[2]};
+    if (dv[i].isZero(0.0))
+      value_error(nd < 0 ? "directions" : "directions[" + std::to_string(i) + "]",
+                  "a zero vector (a ray needs a direction)");
   }
   std::vector<RaycastResult> results(rows);
   py::dict dict;

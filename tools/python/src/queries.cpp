@@ -177,6 +177,7 @@ void bind_queries(py::module_& m) {
         const Shape& sh = to_shape(shape, "shape");
         const Pose p = to_pose(pose, "pose");
         const Eigen::Vector3d o = to_vector3(origin, "origin"), d = to_vector3(direction, "direction");
+        if (d.isZero(0.0)) value_error("direction", "a zero vector (a ray needs a direction)");
         const double f = to_non_negative(max_fraction, "max_fraction");
         const RaycastSettings s = to_settings<RaycastSettings>(settings, "RaycastSettings");
         return raycast(sh, p, o, d, f, s);
