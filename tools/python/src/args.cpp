@@ -219,13 +219,14 @@ Pose to_pose(py::handle object, const char* name) {
   value_error(name, std::string("expected ") + kPoseWhat + ", got shape " + shape_text(a));
 }
 
-PoseBatch to_pose_batch(py::handle object, const char* name) {
-  const py::array_t<double> a = to_real_array(object, name);
-  PoseBatch batch;
-  const double* d = a.data();
+PoseArray to_pose_array(py::handle object, const char* name) {
+  PoseArray batch;
+  batch.array = to_real_array(object, name);
+  batch.name = name;
+  const py::array_t<double>& a = batch.array;
   if ((a.ndim() == 1 && a.shape(0) == 7) || (a.ndim() == 2 && a.shape(0) == 4 && a.shape(1) == 4)) {
     batch.single = true;
-    batch.poses.push_back(a.ndim() == 1 ? pose_from_vector7(d, name, -1) : pose_from_matrix4(d, name, -1));
+    batch.width = a.ndim() == 1 ? 7 : 16;
     return batch;
   }
   const bool rows7 = a.ndim() == 2 && a.shape(1) == 7;
@@ -233,21 +234,34 @@ PoseBatch to_pose_batch(py::handle object, const char* name) {
   if (!rows7 && !rows16)
     value_error(name, "expected a batch of poses, (N, 7) or (N, 4, 4), or one pose, (7,) or (4, 4); got shape " +
                           shape_text(a));
-  const auto n = static_cast<std::size_t>(a.shape(0));
-  batch.poses.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const long row = static_cast<long>(i);
-    batch.poses[i] = rows7 ? pose_from_vector7(d + 7 * i, name, row) : pose_from_matrix4(d + 16 * i, name, row);
-  }
+  batch.width = rows7 ? 7 : 16;
   return batch;
 }
 
-std::size_t broadcast_rows(const PoseBatch& a, const char* name_a, const PoseBatch& b, const char* name_b) {
-  if (a.rows() == b.rows()) return a.rows();
-  if (a.rows() == 1) return b.rows();
-  if (b.rows() == 1) return a.rows();
+void PoseArray::convert(std::size_t begin, std::size_t count, Pose* out) const {
+  const double* d = array.data();
+  for (std::size_t i = begin; i < begin + count; ++i) {
+    const long row = single ? -1 : static_cast<long>(i);
+    const double* v = d + (single ? 0 : width * i);
+    out[i - begin] = width == 7 ? pose_from_vector7(v, name, row) : pose_from_matrix4(v, name, row);
+  }
+}
+
+PoseBatch to_pose_batch(py::handle object, const char* name) {
+  const PoseArray array = to_pose_array(object, name);
+  PoseBatch batch;
+  batch.single = array.single;
+  batch.poses.resize(array.rows());
+  array.convert(0, array.rows(), batch.poses.data());
+  return batch;
+}
+
+std::size_t broadcast_rows(std::size_t rows_a, const char* name_a, std::size_t rows_b, const char* name_b) {
+  if (rows_a == rows_b) return rows_a;
+  if (rows_a == 1) return rows_b;
+  if (rows_b == 1) return rows_a;
   std::ostringstream out;
-  out << name_a << " has " << a.rows() << " poses and " << name_b << " has " << b.rows()
+  out << name_a << " has " << rows_a << " poses and " << name_b << " has " << rows_b
       << ": batches must have the same length (or one pose, broadcast)";
   throw py::value_error(out.str());
 }

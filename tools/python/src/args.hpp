@@ -59,8 +59,22 @@ Eigen::Vector3d to_vector3(py::handle object, const char* name);
 // One pose (7-vector or 4x4).
 Pose to_pose(py::handle object, const char* name);
 
-// A batch of poses: (N, 7), (N, 4, 4), or one pose (7,) / (4, 4) that
-// broadcasts (then single is true and poses has one entry).
+// A batch of poses as given: (N, 7), (N, 4, 4), or one pose (7,) / (4, 4)
+// that broadcasts (single; rows() is then 1). Its type, shape and
+// finiteness are checked when made; each pose's own rules (a zero
+// quaternion, a 4x4 that is not rigid) when converted, a block at a time.
+struct PoseArray {
+  py::array_t<double> array;
+  const char* name = "";
+  std::size_t width = 7;  // 7 or 16 numbers a pose
+  bool single = false;
+  std::size_t rows() const { return single ? 1 : static_cast<std::size_t>(array.shape(0)); }
+  // Poses [begin, begin + count) into out (ValueError naming the row).
+  void convert(std::size_t begin, std::size_t count, Pose* out) const;
+};
+PoseArray to_pose_array(py::handle object, const char* name);
+
+// Every pose of a batch converted at once.
 struct PoseBatch {
   std::vector<Pose> poses;
   bool single = false;
@@ -71,6 +85,6 @@ PoseBatch to_pose_batch(py::handle object, const char* name);
 // The number of rows of two batches that broadcast against each other (a
 // single pose or a batch of one broadcasts); ValueError naming both when
 // they differ.
-std::size_t broadcast_rows(const PoseBatch& a, const char* name_a, const PoseBatch& b, const char* name_b);
+std::size_t broadcast_rows(std::size_t rows_a, const char* name_a, std::size_t rows_b, const char* name_b);
 
 }  // namespace hedra::python
