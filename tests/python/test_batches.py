@@ -134,3 +134,22 @@ def test_batch_inputs_are_not_modified_and_outputs_are_new(rng):
     strided = np.asfortranarray(np.tile(poses[0], (5, 1)))
     t = hedra.distance_many(hedra.Sphere(1.0), ints, hedra.Sphere(1.0), strided)
     assert np.array_equal(s["distance"], t["distance"])
+
+
+def test_rows_across_blocks(rng):
+    """Batches run in blocks of rows: rows on both sides of every block boundary equal the single query."""
+    a, b = hedra.Box([0.4, 0.3, 0.2]), hedra.Capsule(0.2, 0.3)
+    n = 3 * 4096 + 17
+    pa, pb = random_poses(rng, n, 0.8), random_poses(rng, n, 0.8)
+    runs = [hedra.penetration_many(a, pa, b, pb, threads=t) for t in (1, 2, 0)]
+    for run in runs[1:]:
+        assert all(same_bits(runs[0][k], run[k]) for k in run)
+    for i in [0, 4095, 4096, 4097, 8191, 8192, 12287, 12288, n - 1]:
+        single = hedra.penetration(a, pa[i], b, pb[i])
+        assert same_bits(runs[0]["distance"][i], np.float64(single.distance))
+        assert same_bits(runs[0]["normal"][i], single.normal)
+    broadcast = hedra.penetration_many(a, pa[5], b, pb)
+    assert same_bits(broadcast["distance"][9000], np.float64(hedra.penetration(a, pa[5], b, pb[9000]).distance))
+    pb[9000, 3:] = 0.0  # a bad pose in the third block
+    with pytest.raises(ValueError, match=r"poses_b\[9000\]: zero quaternion"):
+        hedra.penetration_many(a, pa, b, pb)
