@@ -1,5 +1,5 @@
 // The Python module `hedra` (pybind11): hedra's shapes, queries, batches
-// and scenes over numpy arrays. The contract is /docs/python.md: names and
+// and scenes over numpy arrays. The contract is docs/python.md: names and
 // meanings other programs rely on. This file only assembles the parts:
 //   args.*      every argument checked (TypeError / ValueError naming it)
 //   shapes.*    Sphere, Box, Capsule, Cylinder, Cone, ConvexHull
