@@ -22,6 +22,7 @@ packages=(
   libccd-dev libfcl-dev libbullet-dev            # peers (HEDRA_WITH_PEERS)
   libmujoco-dev                                  # hedra as MuJoCo's narrowphase (tools/mujoco/)
   python3-matplotlib                             # plots
+  pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (tools/python/) and its tests
   libjs-three                                    # three.js, embedded into `hedra view` pages
   chromium                                       # headless browser for the `hedra view` page tests
 )
