@@ -67,4 +67,37 @@ static_assert(!std::is_convertible_v<double, Radius>);
 static_assert(!std::is_convertible_v<double, HalfLength>);
 static_assert(!std::is_convertible_v<double, Margin>);
 
+// ---- one argument order: (..., cache, settings) --------------------------
+
+static_assert(std::is_same_v<decltype(&shape_cast),
+                             CastResult (*)(const Shape&, const Pose&, const Vec&, const Shape&, const Pose&, const Vec&,
+                                            GjkCache*, const ShapeCastSettings&)>);
+static_assert(std::is_same_v<decltype(&time_of_impact), CastResult (*)(const Shape&, const Sweep&, const Shape&,
+                                                                        const Sweep&, GjkCache*, const ToiSettings&)>);
+static_assert(std::is_same_v<decltype(&distance), DistanceResult (*)(const Shape&, const Pose&, const Shape&,
+                                                                      const Pose&, GjkCache*, const GjkSettings&)>);
+static_assert(
+    std::is_same_v<decltype(&penetration), PenetrationResult (*)(const Shape&, const Pose&, const Shape&, const Pose&,
+                                                                 GjkCache*, const PenetrationSettings&)>);
+
+TEST(ArgumentOrder, CastAndTimeOfImpactTakeCacheThenSettings) {
+  GjkCache cache;
+  ShapeCastSettings cast;
+  cast.target_distance = 0.5;
+  const CastResult r = shape_cast(Sphere{1.0}, Pose::identity(), Vec::Zero(), Sphere{1.0},
+                                  Pose::from_translation(Vec(5.0, 0.0, 0.0)), Vec(-4.0, 0.0, 0.0), &cache, cast);
+  ASSERT_EQ(r.status, CastStatus::hit);
+  EXPECT_NEAR(r.fraction, 2.5 / 4.0, 1e-8);  // centres 2.5 apart: distance 0.5
+  EXPECT_TRUE(cache.valid);
+  ToiSettings toi;
+  toi.target_distance = 0.5;
+  GjkCache toi_cache;
+  const Sweep still{Pose::identity(), Pose::identity()};
+  const Sweep moving{Pose::from_translation(Vec(5.0, 0.0, 0.0)), Pose::from_translation(Vec(1.0, 0.0, 0.0))};
+  const CastResult t = time_of_impact(Sphere{1.0}, still, Sphere{1.0}, moving, &toi_cache, toi);
+  ASSERT_EQ(t.status, CastStatus::hit);
+  EXPECT_NEAR(t.fraction, 2.5 / 4.0, 1e-6);
+  EXPECT_TRUE(toi_cache.valid);
+}
+
 }  // namespace

@@ -334,14 +334,14 @@ void check_casts(const Shape& a, const Pose& pose_a, const Shape& b, const Pose&
   hedra::collision::ShapeCastSettings cast_settings;
   cast_settings.target_distance = m.target_distance;
   cast_settings.linear_slop = m.linear_slop;
-  const CastResult cast = shape_cast(a, pose_a, m.move_a, b, pose_b, m.move_b, cast_settings);
+  const CastResult cast = shape_cast(a, pose_a, m.move_a, b, pose_b, m.move_b, nullptr, cast_settings);
   const hedra::collision::Sweep sweep_a{
       pose_a, {Eigen::AngleAxisd(m.angle, m.axis).toRotationMatrix() * pose_a.rotation, pose_a.translation + m.move_a}};
   const hedra::collision::Sweep sweep_b{pose_b, {pose_b.rotation, pose_b.translation + m.move_b}};
   hedra::collision::ToiSettings toi_settings;
   toi_settings.target_distance = m.target_distance;
   toi_settings.linear_slop = m.linear_slop;
-  const CastResult toi = time_of_impact(a, sweep_a, b, sweep_b, toi_settings);
+  const CastResult toi = time_of_impact(a, sweep_a, b, sweep_b, nullptr, toi_settings);
   if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
     std::fprintf(stderr, "shape_cast %s at %.17g, time_of_impact %s at %.17g (%d steps)\n", to_string(cast.status),
                  cast.fraction, to_string(toi.status), toi.fraction, toi.iterations);

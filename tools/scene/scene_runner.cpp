@@ -241,7 +241,7 @@ QueryOutcome run_cast(const collision::Shape& a, const BodySpec& body_a, const c
   const collision::Pose pb = body_b.pose();
   const Eigen::Vector3d ua = body_a.end_position - body_a.position;
   const Eigen::Vector3d ub = body_b.end_position - body_b.position;
-  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::shape_cast(a, pa, ua, b, pb, ub, settings); }));
+  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::shape_cast(a, pa, ua, b, pb, ub, nullptr, settings); }));
   return out;
 }
 
@@ -253,7 +253,7 @@ QueryOutcome run_toi(const collision::Shape& a, const BodySpec& body_a, const co
   settings.target_distance = query.target_distance;
   const collision::Sweep sa{body_a.pose(), body_a.end_pose()};
   const collision::Sweep sb{body_b.pose(), body_b.end_pose()};
-  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::time_of_impact(a, sa, b, sb, settings); }));
+  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::time_of_impact(a, sa, b, sb, nullptr, settings); }));
   return out;
 }
 
