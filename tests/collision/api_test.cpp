@@ -100,4 +100,89 @@ TEST(ArgumentOrder, CastAndTimeOfImpactTakeCacheThenSettings) {
   EXPECT_TRUE(toi_cache.valid);
 }
 
+// ---- poses that are not rotations ---------------------------------------
+
+// Every query of the API on one pair (a box and a sphere 3 apart), each
+// answering whether its status is invalid_input.
+struct Verdicts {
+  bool intersect, distance, penetration, contact, raycast, shape_cast, time_of_impact;
+  bool all() const {
+    return intersect && distance && penetration && contact && raycast && shape_cast && time_of_impact;
+  }
+  bool none() const {
+    return !intersect && !distance && !penetration && !contact && !raycast && !shape_cast && !time_of_impact;
+  }
+};
+
+Verdicts invalid_with(const Pose& pose_b) {
+  const Shape a = Box{Vec(1.0, 1.0, 1.0), 0.0};
+  const Shape b = Sphere{0.5, 0.0};
+  const Pose pose_a = Pose::identity();
+  const Sweep sweep_b{pose_b, {pose_b.rotation, pose_b.translation - Vec(3.0, 0.0, 0.0)}};
+  Verdicts v{};
+  v.intersect = intersect(a, pose_a, b, pose_b).status == Status::invalid_input;
+  v.distance = distance(a, pose_a, b, pose_b).status == Status::invalid_input;
+  v.penetration = penetration(a, pose_a, b, pose_b).status == Status::invalid_input;
+  v.contact = contact(a, pose_a, b, pose_b).status == Status::invalid_input;
+  v.raycast = raycast(b, pose_b, Vec::Zero(), Vec(4.0, 0.0, 0.0)).status == CastStatus::invalid_input;
+  v.shape_cast =
+      shape_cast(a, pose_a, Vec::Zero(), b, pose_b, Vec(-3.0, 0.0, 0.0)).status == CastStatus::invalid_input;
+  v.time_of_impact = time_of_impact(a, {pose_a, pose_a}, b, sweep_b).status == CastStatus::invalid_input;
+  return v;
+}
+
+const Vec kAt(3.0, 0.1, 0.2);
+
+TEST(PoseValidity, RotationScaledByTwoIsInvalidInEveryQuery) {
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.3, Vec(1, 2, 3).normalized()).toRotationMatrix();
+  EXPECT_TRUE(invalid_with(Pose{r, kAt}).none());
+  const Pose scaled{2.0 * r, kAt};
+  EXPECT_FALSE(scaled.valid());
+  EXPECT_TRUE(invalid_with(scaled).all());
+}
+
+TEST(PoseValidity, ReflectionIsInvalidInEveryQuery) {
+  const Pose mirror{Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal(), kAt};
+  EXPECT_FALSE(mirror.valid());
+  EXPECT_TRUE(invalid_with(mirror).all());
+  // A rotation by pi (determinant +1, also diagonal) is a rotation.
+  EXPECT_TRUE(invalid_with(Pose{Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal(), kAt}).none());
+}
+
+// Drift accumulated by integrating a rotation: a small symmetric part added
+// to R. Within rotation_tolerance (1e-6 max |R^T R - I|) the pose is
+// accepted, beyond it not.
+TEST(PoseValidity, AccumulatedDriftWithinAndBeyondTheTolerance) {
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(1.1, Vec(-1, 2, 0.5).normalized()).toRotationMatrix();
+  Eigen::Matrix3d drift;
+  drift << 0.2, 0.3, -0.1, 0.3, -0.4, 0.25, -0.1, 0.25, 0.1;  // symmetric, entries <= 0.4
+  const auto drifted = [&](double size) { return Pose{r * (Eigen::Matrix3d::Identity() + size * drift), kAt}; };
+  const auto error = [](const Pose& p) {
+    return (p.rotation.transpose() * p.rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  };
+  const Pose within = drifted(1e-6);   // |R^T R - I| about 0.8e-6
+  const Pose beyond = drifted(1.5e-6);  // about 1.2e-6
+  ASSERT_LT(error(within), rotation_tolerance);
+  ASSERT_GT(error(beyond), rotation_tolerance);
+  EXPECT_TRUE(within.valid());
+  EXPECT_TRUE(invalid_with(within).none());
+  EXPECT_FALSE(beyond.valid());
+  EXPECT_TRUE(invalid_with(beyond).all());
+  // A rotation rounded to float (a single-precision engine's transform) is
+  // a rotation.
+  EXPECT_TRUE((Pose{r.cast<float>().cast<double>(), kAt}.valid()));
+}
+
+TEST(PoseValidity, NonFiniteRotationsStayInvalid) {
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+  r(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE((Pose{r, kAt}.valid()));
+  r(1, 2) = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE((Pose{r, kAt}.valid()));
+  r(1, 2) = 1e200;  // squares overflow
+  EXPECT_FALSE((Pose{r, kAt}.valid()));
+  EXPECT_FALSE(Pose::from_quaternion(Eigen::Quaterniond(0, 0, 0, 0), kAt).valid());
+  EXPECT_TRUE(Pose::from_quaternion(Eigen::Quaterniond(1e-200, 3e-200, 0, 0), kAt).valid());
+}
+
 }  // namespace
