@@ -185,4 +185,21 @@ TEST(PoseValidity, NonFiniteRotationsStayInvalid) {
   EXPECT_TRUE(Pose::from_quaternion(Eigen::Quaterniond(1e-200, 3e-200, 0, 0), kAt).valid());
 }
 
+// ---- a ray needs a direction ----------------------------------------------
+
+TEST(RaycastInput, ZeroOrNonFiniteDirectionIsInvalidInput) {
+  const Shape box = Box{Vec(1.0, 1.0, 1.0), 0.0};
+  const Pose at = Pose::from_translation(Vec(3.0, 0.0, 0.0));
+  EXPECT_EQ(raycast(box, at, Vec::Zero(), Vec::Zero()).status, CastStatus::invalid_input);
+  EXPECT_FALSE(raycast(box, at, Vec::Zero(), Vec::Zero()).hit);
+  // Even from inside the shape: a zero direction is no ray.
+  EXPECT_EQ(raycast(box, at, Vec(3.0, 0.0, 0.0), Vec::Zero()).status, CastStatus::invalid_input);
+  EXPECT_EQ(raycast(box, at, Vec::Zero(), Vec(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0)).status,
+            CastStatus::invalid_input);
+  EXPECT_EQ(raycast(box, at, Vec::Zero(), Vec(std::numeric_limits<double>::infinity(), 0.0, 0.0)).status,
+            CastStatus::invalid_input);
+  // A tiny direction is still a ray (only zero is rejected).
+  EXPECT_EQ(raycast(box, at, Vec::Zero(), Vec(1e-300, 0.0, 0.0), 4e300).status, CastStatus::hit);
+}
+
 }  // namespace

@@ -313,7 +313,7 @@ void check_raycast(const Shape& b, const Pose& pose_b, const Motion& m, double c
                    "raycast: non-finite output (status %s)", to_string(r.status));
   const double size = bounding_radius(b);
   const bool valid = validate(b).ok() && pose_b.valid() && within(m.ray_origin) && within(m.ray_direction) &&
-                     within(m.max_fraction * m.ray_direction) &&
+                     m.ray_direction.cwiseAbs().maxCoeff() > 0.0 && within(m.max_fraction * m.ray_direction) &&
                      (size == 0.0 || size >= hedra::collision::min_pair_extent);
   HEDRA_FUZZ_CHECK(valid == (r.status != CastStatus::invalid_input), "raycast: %s for %s input", to_string(r.status),
                    valid ? "valid" : "invalid");
