@@ -9,6 +9,7 @@
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/raycast.hpp>
 #include <hedra/collision/time_of_impact.hpp>
+#include <hedra/hull/assert.hpp>
 #include <limits>
 #include <type_traits>
 
@@ -201,5 +202,11 @@ TEST(RaycastInput, ZeroOrNonFiniteDirectionIsInvalidInput) {
   // A tiny direction is still a ray (only zero is rejected).
   EXPECT_EQ(raycast(box, at, Vec::Zero(), Vec(1e-300, 0.0, 0.0), 4e300).status, CastStatus::hit);
 }
+
+// ---- assertions: on in Debug or with HEDRA_ENABLE_ASSERTS=ON, else off -----
+
+#ifdef HEDRA_TEST_EXPECT_ASSERTS
+TEST(Assertions, OnWhereTheDocsSay) { EXPECT_EQ(HEDRA_ASSERTS_ENABLED, HEDRA_TEST_EXPECT_ASSERTS); }
+#endif
 
 }  // namespace
