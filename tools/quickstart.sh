@@ -23,6 +23,7 @@ packages=(
   python3-matplotlib                             # plots
   libjs-three                                    # three.js, embedded into `hedra view` pages
   chromium                                       # headless browser for the `hedra view` page tests
+  pkgconf                                        # the pkg-config consumer test (tests/downstream)
 )
 
 say() { printf '==> %s\n' "$*"; }
