@@ -77,3 +77,6 @@ cmake --build build --parallel "$jobs"
 
 say "build/bin/hedra hull tools/cli/data/demo_points.xyz"
 build/bin/hedra hull tools/cli/data/demo_points.xyz
+# The library's main job: contact, penetration and distance queries.
+say "build/bin/hedra query scenes/demo.json"
+build/bin/hedra query scenes/demo.json
