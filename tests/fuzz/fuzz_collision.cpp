@@ -8,7 +8,8 @@
 // may be zero or NaN, translations up to 1e6; sometimes B's rotation A's
 // turned by 1e-1 .. 1e-15 rad, a nearly coaxial pair; from a byte after
 // everything else, B near A's axis and tilted 1e-2 .. 1e-10 rad off it, a
-// peg in a hole). Checked, for every
+// peg in a hole; from a byte after that, B's rotation scaled, sheared or
+// mirrored: not a rigid motion). Checked, for every
 // input and both orders (A, B) and (B, A):
 //   - every output field is finite, whatever the status;
 //   - invalid shapes or poses, or a pair below min_pair_extent, give
@@ -51,6 +52,7 @@
 #include <hedra/collision/raycast.hpp>
 #include <hedra/collision/time_of_impact.hpp>
 #include <limits>
+#include <optional>
 #include <variant>
 #include <vector>
 
@@ -119,6 +121,17 @@ bool make_shape(hedra::fuzz::FuzzInput& in, Shape& shape) {
 // the arguments of a call are evaluated in an unspecified order (GCC right
 // to left, clang left to right), and the GCC replay driver then decoded a
 // libFuzzer finding into another pair.
+// Whether p's rotation is one by pose.hpp's definition, computed apart from
+// Pose::is_rotation(): max |R^T R - I| <= rotation_tolerance and det R > 0;
+// nothing within 1e-12 of the tolerance (rounding decides there).
+std::optional<bool> rigid(const Pose& p) {
+  if (!p.rotation.allFinite()) return false;
+  const double error = (p.rotation.transpose() * p.rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (!std::isfinite(error)) return false;
+  if (std::abs(error - hedra::collision::rotation_tolerance) < 1e-12) return std::nullopt;
+  return error <= hedra::collision::rotation_tolerance && p.rotation.determinant() > 0.0;
+}
+
 Pose make_pose(hedra::fuzz::FuzzInput& in) {
   Eigen::Quaterniond q;
   if (in.byte() % 16 == 0) {
@@ -317,7 +330,7 @@ void check_raycast(const Shape& b, const Pose& pose_b, const Motion& m, double c
                    "raycast: non-finite output (status %s)", to_string(r.status));
   const double size = bounding_radius(b);
   const bool valid = validate(b).ok() && pose_b.valid() && within(m.ray_origin) && within(m.ray_direction) &&
-                     within(m.max_fraction * m.ray_direction) &&
+                     m.ray_direction.cwiseAbs().maxCoeff() > 0.0 && within(m.max_fraction * m.ray_direction) &&
                      (size == 0.0 || size >= hedra::collision::min_pair_extent);
   HEDRA_FUZZ_CHECK(valid == (r.status != CastStatus::invalid_input), "raycast: %s for %s input", to_string(r.status),
                    valid ? "valid" : "invalid");
@@ -338,14 +351,14 @@ void check_casts(const Shape& a, const Pose& pose_a, const Shape& b, const Pose&
   hedra::collision::ShapeCastSettings cast_settings;
   cast_settings.target_distance = m.target_distance;
   cast_settings.linear_slop = m.linear_slop;
-  const CastResult cast = shape_cast(a, pose_a, m.move_a, b, pose_b, m.move_b, cast_settings);
+  const CastResult cast = shape_cast(a, pose_a, m.move_a, b, pose_b, m.move_b, nullptr, cast_settings);
   const hedra::collision::Sweep sweep_a{
       pose_a, {Eigen::AngleAxisd(m.angle, m.axis).toRotationMatrix() * pose_a.rotation, pose_a.translation + m.move_a}};
   const hedra::collision::Sweep sweep_b{pose_b, {pose_b.rotation, pose_b.translation + m.move_b}};
   hedra::collision::ToiSettings toi_settings;
   toi_settings.target_distance = m.target_distance;
   toi_settings.linear_slop = m.linear_slop;
-  const CastResult toi = time_of_impact(a, sweep_a, b, sweep_b, toi_settings);
+  const CastResult toi = time_of_impact(a, sweep_a, b, sweep_b, nullptr, toi_settings);
   if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
     std::fprintf(stderr, "shape_cast %s at %.17g, time_of_impact %s at %.17g (%d steps)\n", to_string(cast.status),
                  cast.fraction, to_string(toi.status), toi.fraction, toi.iterations);
@@ -499,6 +512,30 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         pose_a.rotation * Eigen::AngleAxisd(tilt, Vec(std::cos(turn), std::sin(turn), 0.0)).toRotationMatrix();
     if (peg & 16) pose_b.rotation = pose_b.rotation * Eigen::AngleAxisd(M_PI, Vec::UnitX()).toRotationMatrix();
   }
+  // Transforms that are not rigid motions (Pose::valid()'s rotation check):
+  // a byte after all of the above may distort B's rotation by 1 .. 1e-10
+  // times a matrix from the bytes (scaled, sheared, or within the
+  // tolerance), or mirror it (one value of its low three bits; older inputs
+  // decode as before).
+  // A distortion within the tolerance is accepted and answered for the
+  // transform given, whose normals are unit only within the rotation's error
+  // (pose.hpp): such inputs are not checked against this file's 1e-9
+  // tolerances and end here; the others must answer invalid_input.
+  const std::uint8_t distort = in.byte();
+  const bool distorted = distort % 8 == 5;
+  if (distorted) {
+    if (distort & 8) {
+      pose_b.rotation = pose_b.rotation * Vec(1.0, 1.0, -1.0).asDiagonal();
+    } else {
+      Eigen::Matrix3d shear;
+      for (int k = 0; k < 9; ++k) shear(k / 3, k % 3) = in.finite_double(1.0);
+      const double amount = std::pow(10.0, -static_cast<double>(in.byte() % 11));
+      pose_b.rotation = pose_b.rotation * (Eigen::Matrix3d::Identity() + amount * shear);
+    }
+  }
+  const std::optional<bool> rigid_b = rigid(pose_b);
+  if (!rigid_b) return 0;  // within rounding of the tolerance: either verdict is right
+  if (distorted && *rigid_b) return 0;
   if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
     describe("a", a, pose_a);
     describe("b", b, pose_b);
@@ -511,7 +548,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                  motion.ray_direction.y(), motion.ray_direction.z(), motion.max_fraction, motion.target_distance,
                  motion.linear_slop);
   }
-  bool valid = validate(a).ok() && validate(b).ok() && pose_a.valid() && pose_b.valid();
+  // Poses by their definition (pose.hpp), not by Pose::valid(): A's comes
+  // from a quaternion (rigid whenever finite), B's may be distorted above.
+  const auto translation_within = [](const Pose& p) {
+    return p.translation.allFinite() && p.translation.cwiseAbs().maxCoeff() <= hedra::collision::max_coordinate;
+  };
+  bool valid = validate(a).ok() && validate(b).ok() && pose_a.rotation.allFinite() && translation_within(pose_a) &&
+               *rigid_b && translation_within(pose_b);
+  HEDRA_FUZZ_CHECK(pose_a.valid() == (pose_a.rotation.allFinite() && translation_within(pose_a)) &&
+                       pose_b.valid() == (*rigid_b && translation_within(pose_b)),
+                   "Pose::valid() disagrees with its definition (a %d, b %d)", pose_a.valid(), pose_b.valid());
   if (valid) {
     // The pair-extent rule of query.hpp, from its definition: the larger
     // bounding radius or the distance between the origins, zero or at least
