@@ -17,23 +17,10 @@ namespace hedra::tool {
 
 namespace {
 
-// Runs `call` `repeat` (>= 1) times, timing each call alone, and returns
-// the last answer; `time_ns` receives the median. The previous answer is
-// replaced outside the timed span.
+// Every query is timed the same way: warm_median() (timing.hpp).
 template <class Call>
 auto timed(int repeat, double& time_ns, Call&& call) {
-  decltype(call()) result{};
-  std::vector<double> times;
-  times.reserve(static_cast<std::size_t>(repeat > 0 ? repeat : 1));
-  for (int i = 0; i < repeat || i == 0; ++i) {
-    const Clock::time_point start = Clock::now();
-    auto answer = call();
-    const Clock::time_point stop = Clock::now();
-    times.push_back(elapsed_ns(start, stop));
-    result = std::move(answer);
-  }
-  time_ns = median(std::move(times));
-  return result;
+  return warm_median(repeat, time_ns, std::forward<Call>(call));
 }
 
 bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
@@ -214,13 +201,18 @@ QueryOutcome run_raycast(const collision::Shape& shape, const collision::Pose& p
   return out;
 }
 
-void set_cast(QueryOutcome& out, const collision::CastResult& r) {
+// A hit's distance is documented in [target, target + tolerance]; the
+// rounding of its witness points can put it a few ulps below the target
+// (-2e-16 for a touching target of 0), which the output shows at the
+// target itself.
+void set_cast(QueryOutcome& out, const collision::CastResult& r, double target) {
   out.status = cast_status(r.status);
   out.hit = r.hit;
   out.intersecting = r.hit;
   out.initially_overlapping = r.initially_overlapping;
   out.fraction = finite_or_zero(out, r.fraction);
   out.distance = finite_or_zero(out, r.distance);
+  if (r.status == collision::CastStatus::hit && out.distance && *out.distance < target) out.distance = target;
   out.normal = finite_or_zero(out, r.normal);
   out.point_a = finite_or_zero(out, r.point_a);
   out.point_b = finite_or_zero(out, r.point_b);
@@ -241,7 +233,8 @@ QueryOutcome run_cast(const collision::Shape& a, const BodySpec& body_a, const c
   const collision::Pose pb = body_b.pose();
   const Eigen::Vector3d ua = body_a.end_position - body_a.position;
   const Eigen::Vector3d ub = body_b.end_position - body_b.position;
-  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::shape_cast(a, pa, ua, b, pb, ub, settings); }));
+  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::shape_cast(a, pa, ua, b, pb, ub, nullptr, settings); }),
+           settings.target_distance + settings.linear_slop);
   return out;
 }
 
@@ -253,7 +246,8 @@ QueryOutcome run_toi(const collision::Shape& a, const BodySpec& body_a, const co
   settings.target_distance = query.target_distance;
   const collision::Sweep sa{body_a.pose(), body_a.end_pose()};
   const collision::Sweep sb{body_b.pose(), body_b.end_pose()};
-  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::time_of_impact(a, sa, b, sb, settings); }));
+  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::time_of_impact(a, sa, b, sb, nullptr, settings); }),
+           settings.target_distance + settings.linear_slop);
   return out;
 }
 
