@@ -492,6 +492,22 @@ IntersectResult intersect(const Shape& a, const Pose& pose_a, const Shape& b, co
       [&](const auto& sa, const auto& sb) { return intersect_typed(sa, pose_a, sb, pose_b, cache, settings); }, a, b);
 }
 
+bool separated_beyond(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, double gap,
+                      const GjkSettings& settings) {
+  if (!(gap >= 0.0) || !inputs_valid(a, pose_a, b, pose_b)) return false;
+  return std::visit(
+      [&](const auto& sa, const auto& sb) {
+        using SA = std::decay_t<decltype(sa)>;
+        using SB = std::decay_t<decltype(sb)>;
+        PairSetup<SA, SB> p(sa, pose_a, sb, pose_b, nullptr);
+        const Transformed<decltype(p.core_b)> placed_b{p.core_b, p.relative.rotation, p.relative.translation};
+        const GjkResult g =
+            gjk_intersect(p.core_a, placed_b, p.initial_axis, p.scale, p.radius_a + p.radius_b + gap, settings);
+        return g.status == GjkStatus::ok && !g.intersecting;
+      },
+      a, b);
+}
+
 DistanceResult distance(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, GjkCache* cache,
                         const GjkSettings& settings) {
   if (!inputs_valid(a, pose_a, b, pose_b)) {
