@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "closed_form.hpp"
+#include "query_detail.hpp"
 
 namespace hedra::collision {
 
@@ -495,6 +496,12 @@ IntersectResult intersect(const Shape& a, const Pose& pose_a, const Shape& b, co
 bool separated_beyond(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, double gap,
                       const GjkSettings& settings) {
   if (!(gap >= 0.0) || !inputs_valid(a, pose_a, b, pose_b)) return false;
+  return detail::separated_beyond_unchecked(a, pose_a, b, pose_b, gap, settings);
+}
+
+bool detail::separated_beyond_unchecked(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                                        double gap, const GjkSettings& settings) {
+  HEDRA_ASSERT(gap >= 0.0 && inputs_valid(a, pose_a, b, pose_b));
   return std::visit(
       [&](const auto& sa, const auto& sb) {
         using SA = std::decay_t<decltype(sa)>;

@@ -9,6 +9,8 @@
 #include <limits>
 #include <type_traits>
 
+#include "query_detail.hpp"
+
 namespace hedra::collision {
 namespace {
 
@@ -416,9 +418,16 @@ void World::query_candidates(std::size_t begin, std::size_t end, const PairSetti
     // A pair certified apart beyond the reach is not kept by any query: the
     // cheap boolean GJK settles it (the intersect query at 0 is that test).
     const bool boolean_only = settings.query == PairQuery::intersect && settings.max_distance == 0.0;
-    if (!boolean_only &&
-        separated_beyond(shapes_[i], poses_[i], shapes_[j], poses_[j], settings.max_distance + band, settings.gjk))
-      continue;
+    if (!boolean_only) {
+      // Shapes and poses were validated when they entered the world; the
+      // pair's extent is settled by the radii unless both are tiny.
+      const double gap = settings.max_distance + band;
+      const bool apart = std::max(radius_[i], radius_[j]) >= min_pair_extent
+                             ? detail::separated_beyond_unchecked(shapes_[i], poses_[i], shapes_[j], poses_[j], gap,
+                                                                  settings.gjk)
+                             : separated_beyond(shapes_[i], poses_[i], shapes_[j], poses_[j], gap, settings.gjk);
+      if (apart) continue;
+    }
     if (query_pair(shapes_[i], poses_[i], shapes_[j], poses_[j], band, settings, contact_settings, result))
       results.push_back(result);
   }
