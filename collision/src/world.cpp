@@ -256,6 +256,12 @@ double World::refit_tree() {
 void World::update_tree(TreeUpdate mode, const ParallelSettings& parallel) {
   stats_.rebuilt = false;
   update_boxes(parallel);
+  const Clock::time_point serial_start = Clock::now();  // the rest runs on the calling thread
+  struct SerialTimer {
+    WorldStats& stats;
+    Clock::time_point start;
+    ~SerialTimer() { stats.serial_seconds += std::chrono::duration<double>(Clock::now() - start).count(); }
+  } timer{stats_, serial_start};
   if (tree_bodies_ != size() || mode == TreeUpdate::rebuild) {
     build_tree();
     stats_.rebuilt = true;
@@ -436,6 +442,7 @@ void World::query_candidates(std::size_t begin, std::size_t end, const PairSetti
 void World::pairs(const PairSettings& settings, std::vector<PairResult>& out) {
   out.clear();
   stats_.candidates = stats_.pairs = 0;
+  stats_.serial_seconds = 0.0;
   const Clock::time_point start = Clock::now();
   update_tree(settings.tree_update, settings.parallel);
   const Clock::time_point updated = Clock::now();
@@ -446,13 +453,16 @@ void World::pairs(const PairSettings& settings, std::vector<PairResult>& out) {
   parallel_for_chunks(n, settings.parallel, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     find_candidates(begin, end, settings.max_distance, chunks_[chunk].keys);
   });
+  const Clock::time_point gather_start = Clock::now();
   gather_candidates();
+  stats_.serial_seconds += std::chrono::duration<double>(Clock::now() - gather_start).count();
   stats_.broadphase_seconds = std::chrono::duration<double>(Clock::now() - updated).count();
   const std::size_t m = candidates_.size();
   stats_.candidates = m;
   parallel_for_chunks(m, settings.parallel, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
     query_candidates(begin, end, settings, chunks_[chunk].results);
   });
+  const Clock::time_point merge_start = Clock::now();
   const std::size_t chunks = parallel_chunk_count(m);
   std::size_t total = 0;
   for (std::size_t c = 0; c < chunks; ++c) total += chunks_[c].results.size();
@@ -460,6 +470,7 @@ void World::pairs(const PairSettings& settings, std::vector<PairResult>& out) {
   for (std::size_t c = 0; c < chunks; ++c)
     out.insert(out.end(), chunks_[c].results.begin(), chunks_[c].results.end());
   stats_.pairs = out.size();
+  stats_.serial_seconds += std::chrono::duration<double>(Clock::now() - merge_start).count();
   stats_.query_seconds = std::chrono::duration<double>(Clock::now() - updated).count();
   std::size_t memory = (candidates_.capacity() + sort_scratch_.capacity()) * sizeof(std::uint64_t);
   for (const ChunkScratch& c : chunks_)

@@ -24,6 +24,7 @@
 //
 // Usage: broadphase_benchmark [--n 1000,10000,100000] [--frames 5]
 //          [--query penetration|contact] [--threads 1,2] [--no-peers] [--no-oracle]
+//        broadphase_benchmark --tree-study N   (refit against rebuild, 60 frames of drift)
 #include <malloc.h>
 #include <time.h>
 
@@ -183,7 +184,7 @@ Measure run_hedra(const Scene& scene, PairQuery query, int threads, const PairSe
   m.memory_mb = static_cast<double>(heap_bytes() - heap0) / 1e6;
   PairSet found;
   for (const PairResult& r : out) found.emplace_back(r.a, r.b);
-  std::vector<double> frames, broad, cpu, broad_cpu, update, traverse;
+  std::vector<double> frames, broad, cpu, broad_cpu, update, traverse, serial;
   std::vector<PairResult> candidates;
   for (std::size_t f = 1; f < scene.frames.size(); ++f) {
     world.set_poses(scene.frames[f].data(), scene.frames[f].size());
@@ -193,6 +194,7 @@ Measure run_hedra(const Scene& scene, PairQuery query, int threads, const PairSe
     frames.push_back(seconds_since(start));
     cpu.push_back(cpu_seconds() - cpu0);
     update.push_back(world.stats().update_seconds);
+    serial.push_back(world.stats().serial_seconds / frames.back());
     traverse.push_back(world.stats().broadphase_seconds);
     PairSettings only = settings;
     only.broadphase_only = true;
@@ -213,10 +215,47 @@ Measure run_hedra(const Scene& scene, PairQuery query, int threads, const PairSe
   }
   compare_with(m, found, oracle);
   char note[160];
-  std::snprintf(note, sizeof note, "frame: boxes+refit %.2f ms, traversal+sort %.2f ms; rebuilt: %s", 1e3 * median(update),
-                1e3 * median(traverse), world.stats().rebuilt ? "yes" : "no");
+  std::snprintf(note, sizeof note, "frame: boxes+refit %.2f ms, traversal+sort %.2f ms, serial %.1f %%; rebuilt: %s",
+                1e3 * median(update), 1e3 * median(traverse), 100.0 * median(serial),
+                world.stats().rebuilt ? "yes" : "no");
   m.note = note;
   return m;
+}
+
+// When a rebuild pays: the same drifting scene (every body moves `step`
+// per frame in a random direction kept for the run) queried with the tree
+// refitted, rebuilt, and by the automatic rule; per frame the refitted
+// tree's cost ratio and each mode's CPU time.
+void tree_update_study(std::size_t n, int frames, double step) {
+  Scene scene = make_scene(n, 0, 7 + n);
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<Vec> velocity;
+  for (std::size_t i = 0; i < n; ++i) velocity.push_back(step * Vec(g(rng), g(rng), g(rng)).normalized());
+  World worlds[3];
+  const TreeUpdate modes[3] = {TreeUpdate::refit, TreeUpdate::rebuild, TreeUpdate::automatic};
+  std::vector<Pose> poses = scene.frames[0];
+  for (World& w : worlds)
+    for (std::size_t i = 0; i < n; ++i) w.add(scene.bodies[i].shape, poses[i]);
+  std::printf("| frame | moved (body sizes) | refit cost ratio | refit ms | rebuild ms | automatic ms | automatic rebuilt |\n");
+  std::printf("|---|---|---|---|---|---|---|\n");
+  std::vector<PairResult> out;
+  for (int f = 0; f <= frames; ++f) {
+    double ms[3];
+    for (int k = 0; k < 3; ++k) {
+      worlds[k].set_poses(poses.data(), n);
+      PairSettings s;
+      s.parallel.threads = 1;
+      s.tree_update = modes[k];
+      const double cpu0 = cpu_seconds();
+      worlds[k].pairs(s, out);
+      ms[k] = 1e3 * (cpu_seconds() - cpu0);
+    }
+    if (f % 5 == 0)
+      std::printf("| %d | %.2f | %.3f | %.2f | %.2f | %.2f | %s |\n", f, f * step, worlds[0].stats().tree_cost_ratio,
+                  ms[0], ms[1], ms[2], worlds[2].stats().rebuilt ? "yes" : "no");
+    for (std::size_t i = 0; i < n; ++i) poses[i].translation += velocity[i];
+  }
 }
 
 #ifdef HEDRA_WITH_PEERS
@@ -451,6 +490,10 @@ int main(int argc, char** argv) {
     else if (arg == "--query" && i + 1 < argc) query = std::string(argv[++i]) == "contact" ? PairQuery::contact : PairQuery::penetration;
     else if (arg == "--no-peers") peers = false;
     else if (arg == "--no-oracle") oracle_limit = 0;
+    else if (arg == "--tree-study" && i + 1 < argc) {
+      tree_update_study(static_cast<std::size_t>(std::atof(argv[++i])), 60, 0.1);
+      return 0;
+    }
     else {
       std::fprintf(stderr, "usage: %s [--n 1000,10000] [--threads 1,2] [--frames 5] [--query penetration|contact] [--no-peers] [--no-oracle]\n", argv[0]);
       return 2;

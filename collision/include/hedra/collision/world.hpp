@@ -109,6 +109,7 @@ struct WorldStats {
   double update_seconds = 0.0;   // boxes + refit or rebuild
   double query_seconds = 0.0;    // traversal + queries + merge
   double broadphase_seconds = 0.0;  // of which traversal and sort (steps 1 and 2)
+  double serial_seconds = 0.0;      // on the calling thread alone: refit or build, sort, merge
   std::size_t memory_bytes = 0;  // the world's own arrays (capacity), shapes' hulls excluded
 };
 
