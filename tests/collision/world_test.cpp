@@ -17,6 +17,8 @@
 #include <thread>
 #include <vector>
 
+#include "allocation_counter.hpp"
+
 namespace hedra::collision {
 namespace {
 
@@ -260,6 +262,35 @@ TEST(World, MovingBodiesRefitOrRebuildAndStayExact) {
   }
   EXPECT_TRUE(rebuilt_automatically);
   EXPECT_GT(refit.stats().tree_cost_ratio, World::kRebuildCostRatio);
+}
+
+// Once its arrays have grown, a frame (moved poses, refit, candidates,
+// queries, the output) allocates nothing, on one thread and on the pool.
+TEST(World, SteadyFramesAllocateNothing) {
+  Scene scene = random_scene(13, 400, 1.0, 1.0, 12.0, Vec::Zero());
+  World world = make_world(scene);
+  std::vector<PairResult> out;
+  for (PairQuery q : {PairQuery::penetration, PairQuery::contact}) {
+    for (int threads : {1, 2, 0}) {
+      PairSettings s;
+      s.query = q;
+      s.max_distance = 0.05;
+      s.parallel.threads = threads;
+      s.tree_update = TreeUpdate::refit;
+      for (int frame = 0; frame < 3; ++frame) {  // warm-up: every chunk's arrays reach their size
+        world.set_poses(scene.poses.data(), scene.poses.size());
+        world.pairs(s, out);
+      }
+      const std::size_t found = out.size();
+      for (Pose& p : scene.poses) p.translation.x() += 1e-7;
+      world.set_poses(scene.poses.data(), scene.poses.size());
+      const long before = g_allocations.load();
+      world.pairs(s, out);
+      EXPECT_EQ(g_allocations.load(), before) << "query " << int(q) << " threads " << threads;
+      EXPECT_EQ(out.size(), found);
+      EXPECT_GT(found, 50u);
+    }
+  }
 }
 
 TEST(World, FilterAndIgnoredPairs) {
