@@ -3,7 +3,7 @@
 #
 # Layout (GNUInstallDirs): headers in include/hedra/<library>/, static or
 # shared libraries in lib/, the package (hedraConfig.cmake, its version file
-# and hedraTargets.cmake) in lib/cmake/hedra/. Each library <name> is the
+# and hedraTargets.cmake) in lib/cmake/hedra/, hedra.pc in lib/pkgconfig/. Each library <name> is the
 # target hedra_<name> with public headers in <name>/include/, exported as
 # hedra::<name> (its EXPORT_NAME), so adding one is adding its name below.
 # Private build-only helpers (hedra_warnings) are linked through
@@ -34,3 +34,17 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/hedraConfigVersion.cmake
 install(FILES ${PROJECT_BINARY_DIR}/hedraConfig.cmake ${PROJECT_BINARY_DIR}/hedraConfigVersion.cmake
         DESTINATION ${HEDRA_INSTALL_CMAKEDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
+
+# The pkg-config file, for builds without CMake (`pkg-config --cflags --libs
+# hedra`): lib/pkgconfig/hedra.pc, its prefix found from its own place
+# (${pcfiledir}) so the install can move. Libraries in link order (collision
+# needs hull); Eigen's flags come through `Requires: eigen3`.
+set(HEDRA_PKGCONFIG_DIR ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+file(RELATIVE_PATH HEDRA_PC_PREFIX_FROM_PCDIR /prefix/${HEDRA_PKGCONFIG_DIR} /prefix)
+string(REGEX REPLACE "/$" "" HEDRA_PC_PREFIX_FROM_PCDIR "${HEDRA_PC_PREFIX_FROM_PCDIR}")
+set(HEDRA_PC_CFLAGS "")
+if(HEDRA_ENABLE_ASSERTS)
+  set(HEDRA_PC_CFLAGS " -DHEDRA_ENABLE_ASSERTS")
+endif()
+configure_file(${CMAKE_CURRENT_LIST_DIR}/hedra.pc.in ${PROJECT_BINARY_DIR}/hedra.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/hedra.pc DESTINATION ${HEDRA_PKGCONFIG_DIR})

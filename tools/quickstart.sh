@@ -20,9 +20,12 @@ packages=(
   nlohmann-json3-dev libcli11-dev                # the hedra tool
   libqhull-dev                                   # the exact reference
   libccd-dev libfcl-dev libbullet-dev            # peers (HEDRA_WITH_PEERS)
+  libmujoco-dev                                  # hedra as MuJoCo's narrowphase (tools/mujoco/)
   python3-matplotlib                             # plots
+  pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (tools/python/) and its tests
   libjs-three                                    # three.js, embedded into `hedra view` pages
   chromium                                       # headless browser for the `hedra view` page tests
+  pkgconf                                        # the pkg-config consumer test (tests/downstream)
 )
 
 say() { printf '==> %s\n' "$*"; }
@@ -76,3 +79,6 @@ cmake --build build --parallel "$jobs"
 
 say "build/bin/hedra hull tools/cli/data/demo_points.xyz"
 build/bin/hedra hull tools/cli/data/demo_points.xyz
+# The library's main job: contact, penetration and distance queries.
+say "build/bin/hedra query scenes/demo.json"
+build/bin/hedra query scenes/demo.json

@@ -93,8 +93,8 @@ CastResult shape_cast_typed(const SA& a, const Pose& pose_a, const Vec& translat
 }  // namespace
 
 CastResult shape_cast(const Shape& a, const Pose& pose_a, const Eigen::Vector3d& translation_a, const Shape& b,
-                      const Pose& pose_b, const Eigen::Vector3d& translation_b, const ShapeCastSettings& settings,
-                      GjkCache* cache) {
+                      const Pose& pose_b, const Eigen::Vector3d& translation_b, GjkCache* cache,
+                      const ShapeCastSettings& settings) {
   const bool valid = pose_a.valid() && pose_b.valid() && validate(a).ok() && validate(b).ok() &&
                      cast_detail::finite_within(translation_a) && cast_detail::finite_within(translation_b) &&
                      cast_detail::target_valid(settings.target_distance, settings.linear_slop) &&

@@ -213,6 +213,7 @@ bool finite_within(const Vec& x) { return x.allFinite() && x.cwiseAbs().maxCoeff
 
 bool ray_valid(const Shape& shape, const Pose& pose, const Vec& origin, const Vec& direction, double max_fraction) {
   if (!pose.valid() || !validate(shape).ok() || !finite_within(origin) || !finite_within(direction)) return false;
+  if (!(direction.cwiseAbs().maxCoeff() > 0.0)) return false;  // a zero direction is no ray
   if (!(max_fraction >= 0.0) || !std::isfinite(max_fraction)) return false;
   if (!finite_within(max_fraction * direction)) return false;
   const double size = bounding_radius(shape);

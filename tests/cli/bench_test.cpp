@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -491,6 +492,21 @@ TEST_F(BenchCli, ASceneIsBenchmarkedQueryByQuery) {
   EXPECT_EQ(summary[1][0].rfind("scene:", 0), 0u);
   EXPECT_EQ(summary[1][1], "hedra");
   EXPECT_FALSE(fs::exists(out / "error_vs_time.png"));
+  // The run time covers the whole run, the exact references included, to
+  // a tenth of a second, and its parts add up to it.
+  const std::string md = slurp(out / "report.md");
+  const std::size_t at = md.find("- run time: ");
+  ASSERT_NE(at, std::string::npos) << md;
+  double total = 0.0, references = 0.0, timing = 0.0;
+  ASSERT_EQ(std::sscanf(md.c_str() + at, "- run time: %lf s: exact references %lf s, then timing and judging %lf s",
+                        &total, &references, &timing),
+            3)
+      << md.substr(at, 120);
+  EXPECT_GE(references, 0.0);
+  EXPECT_NEAR(total, references + timing, 0.11);
+  // "0 failures", "1 failure", never "1 failures".
+  EXPECT_EQ(result.err.find(" 1 failures"), std::string::npos) << result.err;
+  EXPECT_EQ(result.err.find(" 1 cases"), std::string::npos) << result.err;
 }
 
 // --query intersect and --query distance end to end: the report, and every

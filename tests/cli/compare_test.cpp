@@ -68,6 +68,28 @@ TEST(CompareJudge, DistanceWithinTheToleranceAgreesAndBeyondItDisagrees) {
   EXPECT_EQ(judge(QueryType::distance, r, answer_of(true, -0.25)).verdict, Verdict::disagree);
 }
 
+// A method is judged at the precision it computes in: Bullet's float build
+// rounds a distance of 0.01 to 0.00999999 (an error of 9.5e-9), which is
+// float rounding, not a wrong answer; the same error from a double method
+// is one.
+TEST(CompareJudge, FloatPeersAreJudgedAtFloatPrecision) {
+  ReferenceAnswer r = reference_of(-0.01, kZ, true, 3.37e-9);
+  r.pair_size = 0.337;
+  MethodAnswer in_double = answer_of(true, -0.009999990463256836, kZ);
+  EXPECT_EQ(judge(QueryType::penetration, r, in_double).verdict, Verdict::disagree);
+  MethodAnswer in_float = in_double;
+  in_float.single_precision = true;
+  const Judgement j = judge(QueryType::penetration, r, in_float);
+  EXPECT_EQ(j.verdict, Verdict::agree) << j.detail;
+  // Float precision is still a bound: 1e-5 off is wrong in float too.
+  in_float.distance = -0.01 + 1e-5;
+  EXPECT_EQ(judge(QueryType::penetration, r, in_float).verdict, Verdict::disagree);
+  // A tolerance the scene states applies to every method alike.
+  r.tolerance_from_scene = true;
+  in_float.distance = -0.009999990463256836;
+  EXPECT_EQ(judge(QueryType::penetration, r, in_float).verdict, Verdict::disagree);
+}
+
 TEST(CompareJudge, IntersectingIsComparedOnlyOutsideTheTolerance) {
   const ReferenceAnswer touching = reference_of(0.5e-9, kZ, false, 1e-9);
   EXPECT_FALSE(touching.intersecting().has_value());
@@ -542,6 +564,27 @@ TEST_F(CompareCli, JsonIsOneWellFormedDocumentWithEveryMethodsVerdict) {
   EXPECT_EQ(doc["peers_built"], false);
   EXPECT_TRUE(q0["peers"].empty());
 #endif
+}
+
+// Every method is timed the same way (warm, repeated, the median), and the
+// output says how; a ray is labelled ray-<body>, as `query` and `check` do.
+TEST_F(CompareCli, TimingIsStatedAndRaysAreLabelledAsElsewhere) {
+  const std::string path = write(
+      "ray.json", R"({"hedra_scene": 1, "name": "ray",
+        "shapes": {"crate": {"type": "box", "half_extents": [1, 1, 1]}},
+        "bodies": {"crate": {"shape": "crate", "position": [5, 0, 0]}},
+        "queries": [{"type": "raycast", "body": "crate", "origin": [0, 0, 0], "direction": [10, 0, 0]}]})");
+  const RunResult r = run({"compare", path, "--no-peers"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("times: warm (1 untimed call first), median of 21 timed calls, every method alike"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("[0] ray-crate raycast"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("crate-crate"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("precision: each method is judged at the precision it computes in"), std::string::npos);
+  const nlohmann::json doc = run_json({"compare", path, "--no-peers", "--json", "--repeat", "3"});
+  EXPECT_EQ(doc["timed_calls"], 3);
+  EXPECT_EQ(doc["queries"][0]["hedra"]["precision"], "double");
 }
 
 TEST_F(CompareCli, TableNamesEveryMethodAndTheOutcome) {

@@ -125,6 +125,23 @@ TEST_F(HedraCli, RepeatReportsMedianTime) {
   const nlohmann::json hull = run_json({"hull", write("cube.xyz", kCubeXyz), "--json", "--repeat", "7"});
   expect_unit_cube(hull);
   EXPECT_GT(hull["time_ns"].get<double>(), 0.0);
+  EXPECT_TRUE(hull["time_ns"].is_number_integer()) << hull.dump();  // whole nanoseconds
+}
+
+// The build time in a unit a person reads (ns, us or ms, as `query` prints
+// times), never millions of microseconds.
+TEST_F(HedraCli, BuildTimeInAReadableUnit) {
+  const RunResult result = run({"hull", write("cube.xyz", kCubeXyz)});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::size_t at = result.out.find("build time");
+  ASSERT_NE(at, std::string::npos) << result.out;
+  const std::string line = result.out.substr(at, result.out.find('\n', at) - at);
+  const std::size_t digits = line.find_first_of("0123456789");
+  ASSERT_NE(digits, std::string::npos) << line;
+  const double value = std::stod(line.substr(digits));
+  const std::string unit = line.substr(line.find(' ', digits) + 1, 2);
+  EXPECT_TRUE(unit == "ns" || unit == "us" || unit == "ms") << line;
+  EXPECT_LT(value, 10000.0) << line;
 }
 
 TEST_F(HedraCli, FlatInputGivesAPolygon) {

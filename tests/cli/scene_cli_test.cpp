@@ -237,7 +237,7 @@ TEST_F(SceneCli, ExpectationsTheQueryCannotAnswer) {
       "d.json",
       scene(kTwoBalls, kTwoBallBodies, R"([{"a": "p", "b": "q", "type": "intersect", "expect": {"distance": 3}}])"));
   expect_bad({"check", distance},
-             {distance + ": queries[0].expect.distance: a 'intersect' query computes no distance"});
+             {distance + ": queries[0].expect.distance: an 'intersect' query computes no distance"});
   const std::string negative = write(
       "n.json",
       scene(kTwoBalls, kTwoBallBodies, R"([{"a": "p", "b": "q", "type": "distance", "expect": {"distance": -1}}])"));
@@ -426,6 +426,11 @@ TEST_F(SceneCli, RepeatGivesTheSameAnswerAndAMedianTime) {
   EXPECT_GT(many["results"][0]["time_ns"].get<double>(), 0.0);
   once["results"][0].erase("time_ns");
   many["results"][0].erase("time_ns");
+  EXPECT_EQ(many["timed_calls"], 9);
+  for (const char* key : {"timing", "timed_calls"}) {
+    once.erase(key);
+    many.erase(key);
+  }
   EXPECT_EQ(once, many);
   expect_bad({"query", file, "--repeat", "0"}, {"--repeat"});
   expect_bad({"query", file, "--repeat", "x"}, {"--repeat", "'x'"});
@@ -572,3 +577,99 @@ TEST_F(SceneCli, OrientationIsNormalised) {
 }
 
 }  // namespace
+
+// ---- what a newcomer meets: clear refusals and honest tables ---------------
+
+TEST_F(SceneCli, ABodyQueriedAgainstItselfIsRefused) {
+  const std::string file =
+      write("self.json", scene(kTwoBalls, kTwoBallBodies, R"([{"a": "p", "b": "p", "type": "penetration"}])"));
+  expect_bad({"query", file}, {file + ": queries[0].b: the same body as 'a' ('p')", "not queried against itself"});
+}
+
+TEST_F(SceneCli, AnUnknownBodyOrShapeGetsADidYouMean) {
+  const std::string body =
+      write("body.json", scene(kTwoBalls, R"({"crate": {"shape": "ball"}, "floor": {"shape": "ball", "position": [5, 0, 0]}})",
+                               R"([{"a": "crat", "b": "floor", "type": "distance"}])"));
+  expect_bad({"query", body}, {body + ": queries[0].a: unknown body 'crat' (did you mean 'crate'?)"});
+  const std::string shape =
+      write("shape.json", scene(kTwoBalls, R"({"p": {"shape": "Ball"}, "q": {"shape": "ball", "position": [5, 0, 0]}})",
+                                kBallQuery));
+  expect_bad({"query", shape}, {shape + ": bodies.p.shape: unknown shape 'Ball' (did you mean 'ball'?)"});
+  // Nothing close: the known names instead of a guess.
+  const std::string far = write("far.json", scene(kTwoBalls, kTwoBallBodies,
+                                                  R"([{"a": "zebra", "b": "q", "type": "distance"}])"));
+  const RunResult r = expect_bad({"query", far}, {far + ": queries[0].a: unknown body 'zebra' (known: p, q)"});
+  EXPECT_EQ(r.err.find("did you mean"), std::string::npos) << r.err;
+}
+
+// An unknown `expect` key lists the keys that query type answers, not those
+// of the continuous queries (hit, fraction).
+TEST_F(SceneCli, UnknownExpectKeysListWhatTheQueryTypeAnswers) {
+  const auto message = [&](const std::string& type) {
+    const std::string file = write(type + ".json", scene(kTwoBalls, kTwoBallBodies,
+                                                         R"([{"a": "p", "b": "q", "type": ")" + type +
+                                                             R"(", "expect": {"depth": 1}}])"));
+    return expect_bad({"query", file}, {file + ": queries[0].expect.depth: unknown key"}).err;
+  };
+  const std::string contact = message("contact");
+  EXPECT_NE(contact.find("a 'contact' query may expect: intersecting, distance, normal, tolerance, angle_tolerance, "
+                         "contact_count"),
+            std::string::npos)
+      << contact;
+  EXPECT_EQ(contact.find("fraction"), std::string::npos) << contact;
+  const std::string intersect = message("intersect");
+  EXPECT_NE(intersect.find("an 'intersect' query may expect: intersecting)"), std::string::npos) << intersect;
+  EXPECT_EQ(message("distance").find("contact_count"), std::string::npos);
+  // "an 'intersect' query", not "a 'intersect' query".
+  const std::string file = write("i.json", scene(kTwoBalls, kTwoBallBodies,
+                                                 R"([{"a": "p", "b": "q", "type": "intersect", "expect": {"hit": true}}])"));
+  const RunResult r = expect_bad({"query", file}, {"an 'intersect' query has no 'hit'"});
+  EXPECT_EQ(r.err.find("a 'intersect'"), std::string::npos) << r.err;
+}
+
+// Every query is timed warm (one untimed call first) and the output says
+// so; time_ns is a whole number of nanoseconds.
+TEST_F(SceneCli, TimesAreWarmMediansAndSaySo) {
+  const std::string file = write("balls.json", scene(kTwoBalls, kTwoBallBodies, kBallQuery));
+  const RunResult table = run({"query", file, "--repeat", "5"});
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("times: warm (1 untimed call first), median of 5 timed calls"), std::string::npos)
+      << table.out;
+  const nlohmann::json document = run_json({"query", file, "--json"});
+  EXPECT_EQ(document["timing"], "times: warm (1 untimed call first), median of 1 timed call");
+  EXPECT_TRUE(document["results"][0]["time_ns"].is_number_integer()) << document.dump();
+}
+
+// The table's fourth column says what it means: overlap/apart for discrete
+// queries, hit/miss for continuous ones; a ray is ray-<body>; a cast's
+// distance is never printed below its target.
+TEST_F(SceneCli, QueryTableColumnsSayWhatTheyMean) {
+  const std::string file = write(
+      "mixed.json",
+      scene(R"({"ball": {"type": "sphere", "radius": 1}, "crate": {"type": "box", "half_extents": [1, 1, 1]}})",
+            R"({"p": {"shape": "ball"}, "q": {"shape": "ball", "position": [1.5, 0, 0]},
+                "box": {"shape": "crate", "position": [10, 0, 0]},
+                "mover": {"shape": "crate", "position": [0, 0, 5], "end_position": [0, 0, -1]},
+                "still": {"shape": "crate", "position": [0.3, 0.2, 0]}})",
+            R"([{"a": "p", "b": "q", "type": "intersect"}, {"a": "p", "b": "box", "type": "distance"},
+                {"type": "raycast", "body": "box", "origin": [0, 0, 0], "direction": [20, 0, 0]},
+                {"a": "mover", "b": "still", "type": "cast"}])"));
+  const RunResult r = run({"query", file});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(lines, line);) rows.push_back(line);
+  ASSERT_GE(rows.size(), 6u) << r.out;
+  EXPECT_NE(rows[1].find("answer"), std::string::npos) << rows[1];
+  EXPECT_EQ(rows[1].find(" hit "), std::string::npos) << rows[1];
+  EXPECT_NE(rows[2].find(" overlap "), std::string::npos) << rows[2];
+  EXPECT_NE(rows[3].find(" apart "), std::string::npos) << rows[3];
+  EXPECT_NE(rows[4].find("  ray          box "), std::string::npos) << rows[4];
+  EXPECT_NE(rows[4].find(" hit "), std::string::npos) << rows[4];
+  EXPECT_NE(rows[5].find(" hit "), std::string::npos) << rows[5];
+  EXPECT_EQ(rows[5].find("d=-"), std::string::npos) << rows[5];
+  // Columns line up: every row's time column ends where the header's does.
+  for (std::size_t i = 2; i < 6; ++i) EXPECT_EQ(rows[i].size(), rows[1].size()) << rows[i] << "\n" << rows[1];
+  const nlohmann::json document = run_json({"query", file, "--json"});
+  EXPECT_GE(document["results"][3]["distance"].get<double>(), 0.0) << document["results"][3].dump();
+}

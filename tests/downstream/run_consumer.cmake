@@ -1,5 +1,5 @@
 # Driver of the downstream ctest tests (cmake -P). Arguments (-D):
-#   STEP          install | find_package | subdirectory
+#   STEP          install | find_package | subdirectory | pkg_config
 #   HEDRA_SOURCE  hedra's source tree;  HEDRA_BINARY  the build tree under test
 #   WORK          scratch directory of this step;  PREFIX  install prefix
 #   CONFIG        build configuration;  GENERATOR, MAKE_PROGRAM, CXX_COMPILER,
@@ -7,7 +7,10 @@
 # install: cmake --install the build tree into PREFIX (emptied first).
 # find_package / subdirectory: configure the consumer in WORK (emptied
 # first), build it and run it (target run_consumer); find_package also checks
-# that hedra came from PREFIX and nowhere else.
+# that hedra came from PREFIX and nowhere else. pkg_config: compile and link
+# main.cpp in one command with `pkg-config --cflags --libs hedra` of PREFIX's
+# hedra.pc alone (PKG_CONFIG_LIBDIR: no system .pc files but Eigen's), as an
+# embedder without CMake would, then run it.
 cmake_minimum_required(VERSION 3.25)
 
 function(run_step description)
@@ -29,6 +32,37 @@ if(STEP STREQUAL "install")
   if(NOT config_files)
     message(FATAL_ERROR "no hedraConfig.cmake under ${PREFIX}")
   endif()
+  return()
+endif()
+
+if(STEP STREQUAL "pkg_config")
+  file(GLOB_RECURSE pc_files "${PREFIX}/*/hedra.pc")
+  if(NOT pc_files)
+    message(FATAL_ERROR "no hedra.pc under ${PREFIX}")
+  endif()
+  list(GET pc_files 0 pc_file)
+  get_filename_component(pc_dir "${pc_file}" DIRECTORY)
+  find_program(PKG_CONFIG pkg-config REQUIRED)
+  # hedra's own directory first, then the system's (for eigen3.pc only).
+  set(ENV{PKG_CONFIG_PATH} "${pc_dir}")
+  execute_process(COMMAND "${PKG_CONFIG}" --cflags --libs hedra RESULT_VARIABLE result OUTPUT_VARIABLE flags
+                  ERROR_VARIABLE errors OUTPUT_STRIP_TRAILING_WHITESPACE)
+  if(NOT result EQUAL 0)
+    message(FATAL_ERROR "pkg-config --cflags --libs hedra failed: ${errors}")
+  endif()
+  message(STATUS "pkg-config --cflags --libs hedra: ${flags}")
+  string(FIND "${flags}" "-lhedra_collision -lhedra_hull" order)
+  if(order EQUAL -1)
+    message(FATAL_ERROR "hedra.pc does not link hedra_collision before hedra_hull: ${flags}")
+  endif()
+  separate_arguments(flag_list UNIX_COMMAND "${flags}")
+  separate_arguments(cxx_flag_list UNIX_COMMAND "${CXX_FLAGS} ${LINKER_FLAGS}")
+  file(REMOVE_RECURSE "${WORK}")
+  file(MAKE_DIRECTORY "${WORK}")
+  run_step("compiling the consumer with pkg-config's flags"
+           "${CXX_COMPILER}" -std=c++17 -O1 ${cxx_flag_list} "${HEDRA_SOURCE}/tests/downstream/main.cpp"
+           ${flag_list} -o "${WORK}/hedra_consumer")
+  run_step("running the consumer (pkg_config)" "${WORK}/hedra_consumer")
   return()
 endif()
 

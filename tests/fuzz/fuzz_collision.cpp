@@ -8,7 +8,8 @@
 // may be zero or NaN, translations up to 1e6; sometimes B's rotation A's
 // turned by 1e-1 .. 1e-15 rad, a nearly coaxial pair; from a byte after
 // everything else, B near A's axis and tilted 1e-2 .. 1e-10 rad off it, a
-// peg in a hole). Checked, for every
+// peg in a hole; from a byte after that, B's rotation scaled, sheared or
+// mirrored: not a rigid motion). Checked, for every
 // input and both orders (A, B) and (B, A):
 //   - every output field is finite, whatever the status;
 //   - invalid shapes or poses, or a pair below min_pair_extent, give
@@ -35,6 +36,9 @@
 //     plus the query's and penetration()'s error bounds of the target.
 // The tolerance is 1e-9 of the pair's size plus the rounding of its world
 // coordinates (64 eps of the largest coordinate, motions included).
+// Halfspaces (halfspace.hpp): B against the halfspace z <= margin of A's
+// pose (a margin from a byte read after everything else), checked by
+// check_halfspace() below.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -42,11 +46,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <hedra/collision/cast.hpp>
+#include <hedra/collision/halfspace.hpp>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/raycast.hpp>
 #include <hedra/collision/time_of_impact.hpp>
 #include <limits>
+#include <optional>
 #include <variant>
 #include <vector>
 
@@ -115,6 +121,17 @@ bool make_shape(hedra::fuzz::FuzzInput& in, Shape& shape) {
 // the arguments of a call are evaluated in an unspecified order (GCC right
 // to left, clang left to right), and the GCC replay driver then decoded a
 // libFuzzer finding into another pair.
+// Whether p's rotation is one by pose.hpp's definition, computed apart from
+// Pose::is_rotation(): max |R^T R - I| <= rotation_tolerance and det R > 0;
+// nothing within 1e-12 of the tolerance (rounding decides there).
+std::optional<bool> rigid(const Pose& p) {
+  if (!p.rotation.allFinite()) return false;
+  const double error = (p.rotation.transpose() * p.rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (!std::isfinite(error)) return false;
+  if (std::abs(error - hedra::collision::rotation_tolerance) < 1e-12) return std::nullopt;
+  return error <= hedra::collision::rotation_tolerance && p.rotation.determinant() > 0.0;
+}
+
 Pose make_pose(hedra::fuzz::FuzzInput& in) {
   Eigen::Quaterniond q;
   if (in.byte() % 16 == 0) {
@@ -313,7 +330,7 @@ void check_raycast(const Shape& b, const Pose& pose_b, const Motion& m, double c
                    "raycast: non-finite output (status %s)", to_string(r.status));
   const double size = bounding_radius(b);
   const bool valid = validate(b).ok() && pose_b.valid() && within(m.ray_origin) && within(m.ray_direction) &&
-                     within(m.max_fraction * m.ray_direction) &&
+                     m.ray_direction.cwiseAbs().maxCoeff() > 0.0 && within(m.max_fraction * m.ray_direction) &&
                      (size == 0.0 || size >= hedra::collision::min_pair_extent);
   HEDRA_FUZZ_CHECK(valid == (r.status != CastStatus::invalid_input), "raycast: %s for %s input", to_string(r.status),
                    valid ? "valid" : "invalid");
@@ -334,14 +351,14 @@ void check_casts(const Shape& a, const Pose& pose_a, const Shape& b, const Pose&
   hedra::collision::ShapeCastSettings cast_settings;
   cast_settings.target_distance = m.target_distance;
   cast_settings.linear_slop = m.linear_slop;
-  const CastResult cast = shape_cast(a, pose_a, m.move_a, b, pose_b, m.move_b, cast_settings);
+  const CastResult cast = shape_cast(a, pose_a, m.move_a, b, pose_b, m.move_b, nullptr, cast_settings);
   const hedra::collision::Sweep sweep_a{
       pose_a, {Eigen::AngleAxisd(m.angle, m.axis).toRotationMatrix() * pose_a.rotation, pose_a.translation + m.move_a}};
   const hedra::collision::Sweep sweep_b{pose_b, {pose_b.rotation, pose_b.translation + m.move_b}};
   hedra::collision::ToiSettings toi_settings;
   toi_settings.target_distance = m.target_distance;
   toi_settings.linear_slop = m.linear_slop;
-  const CastResult toi = time_of_impact(a, sweep_a, b, sweep_b, toi_settings);
+  const CastResult toi = time_of_impact(a, sweep_a, b, sweep_b, nullptr, toi_settings);
   if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
     std::fprintf(stderr, "shape_cast %s at %.17g, time_of_impact %s at %.17g (%d steps)\n", to_string(cast.status),
                  cast.fraction, to_string(toi.status), toi.fraction, toi.iterations);
@@ -371,6 +388,84 @@ void check_casts(const Shape& a, const Pose& pose_a, const Shape& b, const Pose&
 }
 
 }  // namespace
+
+// B against the halfspace {z <= margin} of A's pose: invalid_input exactly
+// for invalid input; otherwise finite outputs, the queries agree with each
+// other, contact()'s deepest depth is the signed distance, every point's
+// depth is its gap to the plane along the normal (within the contact
+// distance), and the signed distance matches penetration() of B against a
+// box 1e3 times B's size whose top face is the plane (GJK and EPA: an
+// independent path).
+void check_halfspace(const Shape& b, const Pose& pose_a, const Pose& pose_b, double margin, bool b_valid) {
+  using namespace hedra::collision;
+  const Halfspace h{Vec::UnitZ(), margin};
+  const PenetrationResult p = penetration(h, pose_a, b, pose_b);
+  ContactSettings settings;
+  const double size = b_valid ? bounding_radius(b) : 0.0;
+  settings.contact_distance = 0.01 * size;
+  const ContactResult c = contact(h, pose_a, b, pose_b, nullptr, settings);
+  const DistanceResult d = distance(h, pose_a, b, pose_b);
+  const IntersectResult i = intersect(h, pose_a, b, pose_b);
+  HEDRA_FUZZ_CHECK(std::isfinite(p.distance) && finite(p.normal) && finite(p.point_a) && finite(p.point_b) &&
+                       std::isfinite(c.distance) && finite(c.normal) && c.count >= 0 && c.count <= kMaxContactPoints,
+                   "halfspace: non-finite output (status %s)", to_string(p.status));
+  for (int k = 0; k < c.count; ++k)
+    HEDRA_FUZZ_CHECK(finite(c.points[k].point) && std::isfinite(c.points[k].depth), "halfspace point %d non-finite", k);
+  const bool valid = b_valid && pose_a.valid() && pose_b.valid() && validate(h).ok();
+  if (!valid) {
+    HEDRA_FUZZ_CHECK(p.status == Status::invalid_input && c.status == Status::invalid_input &&
+                         d.status == Status::invalid_input && i.status == Status::invalid_input,
+                     "halfspace: invalid input answered %s", to_string(p.status));
+    return;
+  }
+  // The pair-extent rule (halfspace.cpp): B's size or its distance to the plane.
+  const Vec n = pose_a.rotation.col(2);
+  const double extent = std::max(size, std::fabs(n.dot(pose_b.translation - pose_a.translation)));
+  if (!(extent == 0.0 || extent >= min_pair_extent)) {
+    HEDRA_FUZZ_CHECK(p.status == Status::invalid_input, "halfspace: out-of-range pair answered %s",
+                     to_string(p.status));
+    return;
+  }
+  HEDRA_FUZZ_CHECK(p.status == Status::ok && c.status == Status::ok && d.status == Status::ok && i.status == Status::ok,
+                   "halfspace: valid input answered %s / %s", to_string(p.status), to_string(c.status));
+  double offset = 0.0;
+  if (const auto* poly = std::get_if<Polyhedron>(&b)) offset = poly->hull->offset().norm();
+  const double coordinates = (pose_b.translation - pose_a.translation).norm() + offset + size + margin;
+  const double tol = 1e-9 * size + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
+  HEDRA_FUZZ_CHECK(std::fabs(p.normal.norm() - 1.0) < 1e-12, "halfspace normal of length %.17g", p.normal.norm());
+  HEDRA_FUZZ_CHECK(std::fabs(c.distance - p.distance) <= tol, "halfspace: contact %.17g, penetration %.17g",
+                   c.distance, p.distance);
+  HEDRA_FUZZ_CHECK(i.intersecting == p.intersecting && d.intersecting == p.intersecting,
+                   "halfspace: intersect / distance / penetration disagree");
+  if (c.distance <= settings.contact_distance) HEDRA_FUZZ_CHECK(c.count >= 1, "halfspace: no point at %.17g", c.distance);
+  double deepest = -INFINITY;
+  for (int k = 0; k < c.count; ++k) {
+    const ContactPoint& q = c.points[k];
+    deepest = std::max(deepest, q.depth);
+    HEDRA_FUZZ_CHECK(q.depth >= -settings.contact_distance - tol, "halfspace point %d at gap %.17g", k, -q.depth);
+    const Vec on_a = q.point + (q.depth / 2.0) * c.normal;
+    // World points: rounded at the scale of their coordinates.
+    const double world = tol + 64.0 * std::numeric_limits<double>::epsilon() * pose_b.translation.norm();
+    HEDRA_FUZZ_CHECK(std::fabs(n.dot(on_a - pose_a.translation) - margin) <= world,
+                     "halfspace point %d: its witness on A is %.3g off the plane", k,
+                     n.dot(on_a - pose_a.translation) - margin);
+  }
+  if (c.count > 0)
+    HEDRA_FUZZ_CHECK(std::fabs(deepest + c.distance) <= tol, "halfspace: deepest %.17g, depth %.17g", deepest,
+                     -c.distance);
+  // The plane as a large box (sizes where GJK's tolerance of the box's size
+  // stays well under the one checked).
+  if (size < 1e-3 || size > 1e3 || coordinates > 1e4 * size || pose_b.translation.norm() > 1e4 * size ||
+      std::fabs(p.distance) > 10.0 * size)
+    return;
+  const double L = 1e3 * size;
+  const Vec foot = pose_b.translation - (n.dot(pose_b.translation - pose_a.translation) - margin) * n;
+  const Pose box_pose{pose_a.rotation, foot - L * n};
+  const PenetrationResult via_box = penetration(Box{Vec::Constant(L), 0.0}, box_pose, b, pose_b);
+  if (via_box.status != Status::ok) return;
+  HEDRA_FUZZ_CHECK(std::fabs(via_box.distance - p.distance) <= 1e-6 * L + via_box.error_bound,
+                   "halfspace %.17g, the plane as a box %.17g", p.distance, via_box.distance);
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   hedra::fuzz::FuzzInput in(data, size);
@@ -417,6 +512,30 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         pose_a.rotation * Eigen::AngleAxisd(tilt, Vec(std::cos(turn), std::sin(turn), 0.0)).toRotationMatrix();
     if (peg & 16) pose_b.rotation = pose_b.rotation * Eigen::AngleAxisd(M_PI, Vec::UnitX()).toRotationMatrix();
   }
+  // Transforms that are not rigid motions (Pose::valid()'s rotation check):
+  // a byte after all of the above may distort B's rotation by 1 .. 1e-10
+  // times a matrix from the bytes (scaled, sheared, or within the
+  // tolerance), or mirror it (one value of its low three bits; older inputs
+  // decode as before).
+  // A distortion within the tolerance is accepted and answered for the
+  // transform given, whose normals are unit only within the rotation's error
+  // (pose.hpp): such inputs are not checked against this file's 1e-9
+  // tolerances and end here; the others must answer invalid_input.
+  const std::uint8_t distort = in.byte();
+  const bool distorted = distort % 8 == 5;
+  if (distorted) {
+    if (distort & 8) {
+      pose_b.rotation = pose_b.rotation * Vec(1.0, 1.0, -1.0).asDiagonal();
+    } else {
+      Eigen::Matrix3d shear;
+      for (int k = 0; k < 9; ++k) shear(k / 3, k % 3) = in.finite_double(1.0);
+      const double amount = std::pow(10.0, -static_cast<double>(in.byte() % 11));
+      pose_b.rotation = pose_b.rotation * (Eigen::Matrix3d::Identity() + amount * shear);
+    }
+  }
+  const std::optional<bool> rigid_b = rigid(pose_b);
+  if (!rigid_b) return 0;  // within rounding of the tolerance: either verdict is right
+  if (distorted && *rigid_b) return 0;
   if (std::getenv("HEDRA_FUZZ_VERBOSE") != nullptr) {
     describe("a", a, pose_a);
     describe("b", b, pose_b);
@@ -429,7 +548,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                  motion.ray_direction.y(), motion.ray_direction.z(), motion.max_fraction, motion.target_distance,
                  motion.linear_slop);
   }
-  bool valid = validate(a).ok() && validate(b).ok() && pose_a.valid() && pose_b.valid();
+  // Poses by their definition (pose.hpp), not by Pose::valid(): A's comes
+  // from a quaternion (rigid whenever finite), B's may be distorted above.
+  const auto translation_within = [](const Pose& p) {
+    return p.translation.allFinite() && p.translation.cwiseAbs().maxCoeff() <= hedra::collision::max_coordinate;
+  };
+  bool valid = validate(a).ok() && validate(b).ok() && pose_a.rotation.allFinite() && translation_within(pose_a) &&
+               *rigid_b && translation_within(pose_b);
+  HEDRA_FUZZ_CHECK(pose_a.valid() == (pose_a.rotation.allFinite() && translation_within(pose_a)) &&
+                       pose_b.valid() == (*rigid_b && translation_within(pose_b)),
+                   "Pose::valid() disagrees with its definition (a %d, b %d)", pose_a.valid(), pose_b.valid());
   if (valid) {
     // The pair-extent rule of query.hpp, from its definition: the larger
     // bounding radius or the distance between the origins, zero or at least
@@ -484,6 +612,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (const auto* poly = std::get_if<hedra::collision::Polyhedron>(&s)) offset = poly->hull->offset().norm();
     return pose.translation.norm() + offset + bounding_radius(s);
   };
+  // A halfspace under B: a margin from a byte after all of the above.
+  const std::uint8_t halfspace_margin = in.byte();
+  check_halfspace(b, pose_a, pose_b, halfspace_margin % 4 == 1 ? 0.01 * (1 + halfspace_margin / 4) : 0.0,
+                  validate(b).ok());
   check_raycast(b, pose_b, motion, reach(b, pose_b));
   check_casts(a, pose_a, b, pose_b, motion, valid, larger, std::max(reach(a, pose_a), reach(b, pose_b)));
   if (!valid) {

@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <hedra/hull/mass.hpp>
 #include <hedra/hull/mesh_io.hpp>
@@ -74,7 +75,7 @@ std::string format_json(const hull::HalfEdgeMesh& mesh, const HullReport& report
   document["volume"] = report.volume;
   document["area"] = report.area;
   document["max_outside_distance"] = report.max_outside_distance;
-  document["time_ns"] = report.time_ns;
+  document["time_ns"] = static_cast<long long>(std::llround(report.time_ns));  // whole nanoseconds, as query's
   nlohmann::ordered_json vertices = nlohmann::ordered_json::array();
   for (const hull::Vertex& vertex : mesh.vertices) {
     vertices.push_back({vertex.position.x(), vertex.position.y(), vertex.position.z()});
@@ -106,7 +107,7 @@ std::string format_text(const HullOptions& options, const hull::QuickhullResult&
   add("max outside distance", "%.3g", report.max_outside_distance);
   add("tolerance", "%.3g", result.tolerance);
   char time[96];
-  std::snprintf(time, sizeof time, "%.1f us (median of %d build%s)", report.time_ns / 1000.0, report.repeat,
+  std::snprintf(time, sizeof time, "%s (median of %d build%s)", format_time(report.time_ns).c_str(), report.repeat,
                 report.repeat == 1 ? "" : "s");
   add("build time", "%s", time);
   if (const char* note = dimension_note(result.dimension)) text += std::string("  note: ") + note + "\n";

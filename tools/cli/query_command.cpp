@@ -18,6 +18,7 @@
 
 #include <CLI/CLI.hpp>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -35,7 +36,7 @@ namespace {
 struct QueryOptions {
   std::string scene;
   bool json = false;
-  int repeat = 1;
+  int repeat = 1;  // the scene format's default (one warm, timed call)
   bool stats = false;
   int threads = 0;  // 0: all cores
 };
@@ -90,7 +91,7 @@ nlohmann::ordered_json continuous_json(const Scene& scene, const QuerySpec& q, c
   }
   r["iterations"] = {{"cast", o.cast_iterations}};
   r["status"] = o.status;
-  r["time_ns"] = o.time_ns;
+  r["time_ns"] = static_cast<long long>(std::llround(o.time_ns));
   if (stats) {
     r["stats"] = {
         {"cast_iterations", o.cast_iterations}, {"support_calls", o.support_calls}, {"error_bound", o.error_bound}};
@@ -99,10 +100,12 @@ nlohmann::ordered_json continuous_json(const Scene& scene, const QuerySpec& q, c
 }
 
 std::string format_json(const LoadedScene& loaded, const std::vector<Record>& records,
-                        const std::vector<AllPairsStats>& all_pairs, bool stats) {
+                        const std::vector<AllPairsStats>& all_pairs, bool stats, int repeat) {
   const Scene& scene = *loaded.scene;
   nlohmann::ordered_json document;
   document["scene"] = scene.name;
+  document["timing"] = timing_note(repeat);
+  document["timed_calls"] = repeat;
   nlohmann::ordered_json results = nlohmann::ordered_json::array();
   for (const Record& record : records) {
     const QueryOutcome& o = record.outcome;
@@ -127,7 +130,7 @@ std::string format_json(const LoadedScene& loaded, const std::vector<Record>& re
     r["contacts"] = std::move(contacts);
     r["iterations"] = {{"gjk", o.gjk_iterations}, {"epa", o.epa_iterations}};
     r["status"] = o.status;
-    r["time_ns"] = o.time_ns;
+    r["time_ns"] = static_cast<long long>(std::llround(o.time_ns));
     if (stats) {
       r["stats"] = {{"gjk_ran", true},
                     {"gjk_iterations", o.gjk_iterations},
@@ -172,11 +175,13 @@ std::string format_text(const LoadedScene& loaded, const std::vector<Record>& re
                         const std::vector<AllPairsStats>& all_pairs, const QueryOptions& options) {
   const Scene& scene = *loaded.scene;
   std::string text = "scene " + scene.name + " (" + scene.file + "): " + std::to_string(scene.queries.size()) +
-                     (scene.queries.size() == 1 ? " query" : " queries") + ", median of " +
-                     std::to_string(options.repeat) + (options.repeat == 1 ? " run\n" : " runs\n");
+                     (scene.queries.size() == 1 ? " query" : " queries") + "; " + timing_note(options.repeat) + "\n";
   char line[512];
-  std::snprintf(line, sizeof line, "%3s  %-12s %-12s %-11s %-14s %-5s %-22s %-32s %4s %4s %10s\n", "#", "a", "b",
-                "type", "status", "hit", "distance", "normal", "gjk", "epa", "time");
+  // `answer`: overlap or apart for the discrete queries (touching counts as
+  // overlap), hit or miss for the continuous ones. A ray is labelled
+  // ray-<body> here, in `check` and in `compare` alike.
+  std::snprintf(line, sizeof line, "%3s  %-12s %-12s %-11s %-14s %-7s %-28s %-32s %4s %4s %10s\n", "#", "a", "b",
+                "type", "status", "answer", "distance", "normal", "gjk", "epa", "time");
   text += line;
   for (const Record& record : records) {
     const std::size_t i = record.query;
@@ -190,19 +195,19 @@ std::string format_text(const LoadedScene& loaded, const std::vector<Record>& re
       if (q.type == QueryType::raycast) {
         std::snprintf(at, sizeof at, "t=%.10g", o.fraction);
       } else {
-        std::snprintf(at, sizeof at, "t=%.10g d=%.6g", o.fraction, o.distance.value_or(0.0));
+        std::snprintf(at, sizeof at, "t=%.10g d=%.3g", o.fraction, o.distance.value_or(0.0));
       }
-      std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-5s %-22s %-32s %4d %4s %10s\n", i,
-                    scene.bodies[o.body_a].name.c_str(),
-                    q.type == QueryType::raycast ? "(ray)" : scene.bodies[o.body_b].name.c_str(), to_string(q.type),
-                    o.status.c_str(), o.hit ? "yes" : "no", at, format_vector(o.normal).c_str(), o.cast_iterations, "-",
-                    format_time(o.time_ns).c_str());
+      const bool ray = q.type == QueryType::raycast;
+      std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-7s %-28s %-32s %4d %4s %10s\n", i,
+                    ray ? "ray" : scene.bodies[o.body_a].name.c_str(), scene.bodies[ray ? o.body_a : o.body_b].name.c_str(),
+                    to_string(q.type), o.status.c_str(), o.hit ? "hit" : "miss", at, format_vector(o.normal).c_str(),
+                    o.cast_iterations, "-", format_time(o.time_ns).c_str());
       text += line;
       continue;
     }
-    std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-5s %-22s %-32s %4d %4d %10s\n", i,
+    std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-7s %-28s %-32s %4d %4d %10s\n", i,
                   scene.bodies[o.body_a].name.c_str(), scene.bodies[o.body_b].name.c_str(), to_string(q.type), o.status.c_str(),
-                  o.intersecting ? "yes" : "no", distance.c_str(), format_vector(o.normal).c_str(), o.gjk_iterations,
+                  o.intersecting ? "overlap" : "apart", distance.c_str(), format_vector(o.normal).c_str(), o.gjk_iterations,
                   o.epa_iterations, format_time(o.time_ns).c_str());
     text += line;
   }
@@ -263,7 +268,7 @@ int run_query_command(const QueryOptions& options, std::string& out, std::ostrea
     progress.advance();
   }
   progress.stage("formatting the output");
-  out = options.json ? format_json(*loaded, records, all_pairs, options.stats)
+  out = options.json ? format_json(*loaded, records, all_pairs, options.stats, options.repeat)
                      : format_text(*loaded, records, all_pairs, options);
   return kExitOk;
 }
@@ -275,7 +280,7 @@ Subcommand add_query_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("query", "Run the queries of a scene file and print the answers");
   command->add_option("scene", options->scene, "Scene file (JSON, see the README)")->required();
   command->add_flag("--json", options->json, "Print the results as one JSON document");
-  command->add_option("--repeat", options->repeat, "Run each query N times and report the median time")
+  command->add_option("--repeat", options->repeat, "Time each query N times after an untimed warm-up call and report the median (default 1)")
       ->check(whole_number_in(1, kMaxRepeat, "repeat count"))
       ->type_name("N");
   command->add_option("--threads", options->threads,

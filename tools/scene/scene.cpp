@@ -7,6 +7,7 @@
 #include "scene/scene.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -112,7 +113,7 @@ const json& expect_object(const json& value, const std::string& path) {
 }
 
 // Every key of `object` must be in `allowed`.
-void check_keys(const json& object, const std::string& path, std::initializer_list<const char*> allowed) {
+void check_keys(const json& object, const std::string& path, const std::vector<const char*>& allowed) {
   for (auto it = object.begin(); it != object.end(); ++it) {
     bool known = false;
     for (const char* key : allowed) known = known || it.key() == key;
@@ -232,6 +233,47 @@ ShapeSpec read_shape(const std::string& name, const json& value, const std::stri
 
 // ---- bodies -----------------------------------------------------------------
 
+// Edits (insert, delete, replace one character) from a to b: Levenshtein,
+// two rows.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> previous(b.size() + 1), current(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) previous[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    current[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t replace = previous[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
+      current[j] = std::min({previous[j] + 1, current[j - 1] + 1, replace});
+    }
+    std::swap(previous, current);
+  }
+  return previous[b.size()];
+}
+
+// " (did you mean 'crate'?)" for the closest of `names` within a third of
+// the name's length (at least 2 edits; case alone counts as close), or
+// " (known: a, b, c)" for a short list, or nothing.
+std::string did_you_mean(const std::vector<std::string>& names, const std::string& name) {
+  auto lower = [](std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+  };
+  const std::size_t limit = std::max<std::size_t>(2, name.size() / 3);
+  std::size_t best = limit + 1;
+  const std::string* closest = nullptr;
+  for (const std::string& candidate : names) {
+    const std::size_t d = lower(candidate) == lower(name) ? 0 : edit_distance(candidate, name);
+    if (d < best) {
+      best = d;
+      closest = &candidate;
+    }
+  }
+  if (closest) return " (did you mean '" + *closest + "'?)";
+  if (names.empty() || names.size() > 8) return "";
+  std::string list;
+  for (const std::string& candidate : names) list += (list.empty() ? "" : ", ") + candidate;
+  return " (known: " + list + ")";
+}
+
 std::size_t find_index(const std::vector<std::string>& names, const std::string& name) {
   return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
 }
@@ -266,7 +308,7 @@ BodySpec read_body(const std::string& name, const json& value, const std::string
   body.name = name;
   const std::string shape = string(require(value, path, "shape"), member(path, "shape"));
   body.shape = find_index(shape_names, shape);
-  if (body.shape == shape_names.size()) fail(member(path, "shape"), "unknown shape '" + shape + "'");
+  if (body.shape == shape_names.size()) fail(member(path, "shape"), "unknown shape '" + shape + "'" + did_you_mean(shape_names, shape));
   if (const json* p = optional_member(value, "position")) body.position = position(*p, member(path, "position"));
   if (const json* q = optional_member(value, "orientation"))
     body.orientation = quaternion(*q, member(path, "orientation"));
@@ -322,16 +364,29 @@ Expectation read_continuous_expectation(const json& value, const std::string& pa
 Expectation read_expectation(const json& value, const std::string& path, QueryType type) {
   expect_object(value, path);
   Expectation expect;
-  const std::string type_word = std::string("a '") + to_string(type) + "' query";
+  const std::string name = to_string(type);
+  const std::string type_word = (name[0] == 'i' ? "an '" : "a '") + name + "' query";
   if (is_continuous(type)) return read_continuous_expectation(value, path, type_word);
-  check_keys(
-      value, path,
-      {"intersecting", "distance", "normal", "contact_count", "hit", "fraction", "tolerance", "angle_tolerance",
-       "pair_count"});
   for (const char* key : {"hit", "fraction"}) {
     if (optional_member(value, key)) {
       fail(member(path, key), type_word + " has no '" + key + "' (only raycast, cast and toi queries do)");
     }
+  }
+  // The keys this type answers (the specific messages below name the
+  // query that answers the others).
+  std::vector<const char*> allowed = {"intersecting"};
+  if (type != QueryType::intersect) {
+    for (const char* key : {"distance", "normal", "tolerance", "angle_tolerance"}) allowed.push_back(key);
+    if (type == QueryType::contact) allowed.push_back("contact_count");
+  }
+  std::vector<const char*> known = allowed;
+  for (const char* key : {"distance", "normal", "contact_count", "tolerance", "angle_tolerance", "pair_count"})
+    known.push_back(key);
+  for (auto it = value.begin(); it != value.end(); ++it) {
+    if (std::any_of(known.begin(), known.end(), [&](const char* k) { return it.key() == k; })) continue;
+    std::string list;
+    for (const char* key : allowed) list += (list.empty() ? "" : ", ") + std::string(key);
+    fail(member(path, it.key()), "unknown key (" + type_word + " may expect: " + list + ")");
   }
   if (const json* v = optional_member(value, "intersecting")) {
     if (!v->is_boolean()) fail(member(path, "intersecting"), "expected true or false, got " + type_name(*v));
@@ -384,7 +439,7 @@ std::size_t read_body_name(const json& value, const std::string& path, const cha
   const std::string at = member(path, key);
   const std::string name = string(require(value, path, key), at);
   const std::size_t index = find_index(body_names, name);
-  if (index == body_names.size()) fail(at, "unknown body '" + name + "'");
+  if (index == body_names.size()) fail(at, "unknown body '" + name + "'" + did_you_mean(body_names, name));
   return index;
 }
 
@@ -464,6 +519,11 @@ QuerySpec read_query(const json& value, const std::string& path, const std::vect
     }
     query.a = read_body_name(value, path, "a", body_names);
     query.b = read_body_name(value, path, "b", body_names);
+    if (query.a == query.b) {
+      fail(member(path, "b"), "the same body as 'a' ('" + body_names[query.a] +
+                                  "'): a body is not queried against itself (it would answer its own size, "
+                                  "negated, as a depth)");
+    }
   }
   if (const json* expect = optional_member(value, "expect")) {
     query.expect = read_expectation(*expect, member(path, "expect"), query.type);

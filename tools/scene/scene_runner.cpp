@@ -19,23 +19,10 @@ namespace hedra::tool {
 
 namespace {
 
-// Runs `call` `repeat` (>= 1) times, timing each call alone, and returns
-// the last answer; `time_ns` receives the median. The previous answer is
-// replaced outside the timed span.
+// Every query is timed the same way: warm_median() (timing.hpp).
 template <class Call>
 auto timed(int repeat, double& time_ns, Call&& call) {
-  decltype(call()) result{};
-  std::vector<double> times;
-  times.reserve(static_cast<std::size_t>(repeat > 0 ? repeat : 1));
-  for (int i = 0; i < repeat || i == 0; ++i) {
-    const Clock::time_point start = Clock::now();
-    auto answer = call();
-    const Clock::time_point stop = Clock::now();
-    times.push_back(elapsed_ns(start, stop));
-    result = std::move(answer);
-  }
-  time_ns = median(std::move(times));
-  return result;
+  return warm_median(repeat, time_ns, std::forward<Call>(call));
 }
 
 bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
@@ -216,13 +203,18 @@ QueryOutcome run_raycast(const collision::Shape& shape, const collision::Pose& p
   return out;
 }
 
-void set_cast(QueryOutcome& out, const collision::CastResult& r) {
+// A hit's distance is documented in [target, target + tolerance]; the
+// rounding of its witness points can put it a few ulps below the target
+// (-2e-16 for a touching target of 0), which the output shows at the
+// target itself.
+void set_cast(QueryOutcome& out, const collision::CastResult& r, double target) {
   out.status = cast_status(r.status);
   out.hit = r.hit;
   out.intersecting = r.hit;
   out.initially_overlapping = r.initially_overlapping;
   out.fraction = finite_or_zero(out, r.fraction);
   out.distance = finite_or_zero(out, r.distance);
+  if (r.status == collision::CastStatus::hit && out.distance && *out.distance < target) out.distance = target;
   out.normal = finite_or_zero(out, r.normal);
   out.point_a = finite_or_zero(out, r.point_a);
   out.point_b = finite_or_zero(out, r.point_b);
@@ -243,7 +235,8 @@ QueryOutcome run_cast(const collision::Shape& a, const BodySpec& body_a, const c
   const collision::Pose pb = body_b.pose();
   const Eigen::Vector3d ua = body_a.end_position - body_a.position;
   const Eigen::Vector3d ub = body_b.end_position - body_b.position;
-  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::shape_cast(a, pa, ua, b, pb, ub, settings); }));
+  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::shape_cast(a, pa, ua, b, pb, ub, nullptr, settings); }),
+           settings.target_distance + settings.linear_slop);
   return out;
 }
 
@@ -255,7 +248,8 @@ QueryOutcome run_toi(const collision::Shape& a, const BodySpec& body_a, const co
   settings.target_distance = query.target_distance;
   const collision::Sweep sa{body_a.pose(), body_a.end_pose()};
   const collision::Sweep sb{body_b.pose(), body_b.end_pose()};
-  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::time_of_impact(a, sa, b, sb, settings); }));
+  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::time_of_impact(a, sa, b, sb, nullptr, settings); }),
+           settings.target_distance + settings.linear_slop);
   return out;
 }
 
@@ -326,10 +320,14 @@ AllPairsOutcome run_all_pairs(const BuiltScene& built, std::size_t index, int re
   settings.parallel.threads = threads;
   AllPairsOutcome result;
   result.bodies = scene.bodies.size();
-  std::vector<collision::PairResult> pairs;
-  std::vector<double> times;
-  for (int run = 0; run < repeat || run == 0; ++run) {
-    const Clock::time_point start = Clock::now();
+  struct Answer {
+    std::vector<collision::PairResult> pairs;
+    std::size_t candidates = 0;
+  };
+  // Each call starts from a new World: adding the bodies and building the
+  // tree are part of the query's time.
+  const Answer answer = timed(repeat, result.time_ns, [&] {
+    Answer a;
     collision::World world;
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
       // build_shapes() built every body's shape for an all-pairs query, and
@@ -338,11 +336,12 @@ AllPairsOutcome run_all_pairs(const BuiltScene& built, std::size_t index, int re
       (void)body;
       HEDRA_ASSERT(body == i);
     }
-    world.pairs(settings, pairs);
-    times.push_back(elapsed_ns(start, Clock::now()));
-    result.candidates = world.stats().candidates;
-  }
-  result.time_ns = median(std::move(times));
+    world.pairs(settings, a.pairs);
+    a.candidates = world.stats().candidates;
+    return a;
+  });
+  result.candidates = answer.candidates;
+  const std::vector<collision::PairResult>& pairs = answer.pairs;
   result.pairs.reserve(pairs.size());
   for (const collision::PairResult& r : pairs) {
     result.pairs.push_back(pair_outcome(r, query.type));

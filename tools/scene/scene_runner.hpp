@@ -81,10 +81,10 @@ QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat = 
 // of the scene (body i = Scene::bodies[i], numbered in byte order of the
 // names), then World::pairs with the query's type and max_distance on
 // `threads` threads (0: all cores). One outcome per answered pair, sorted by
-// (body_a, body_b), body_a < body_b. Each outcome's time_ns is the median
-// time of the whole query (adding the bodies, building the tree, the
-// broadphase and every pair's query) over `repeat` runs, each from a new
-// World. Iteration counts are not reported (0).
+// (body_a, body_b), body_a < body_b. Each outcome's time_ns is the time of
+// the whole query (adding the bodies, building the tree, the broadphase and
+// every pair's query, each call from a new World), taken like every query's
+// (timing.hpp, warm_median). Iteration counts are not reported (0).
 struct AllPairsOutcome {
   std::vector<QueryOutcome> pairs;
   std::size_t bodies = 0;

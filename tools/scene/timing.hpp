@@ -30,6 +30,36 @@ inline double median(std::vector<double> samples) {
   return lower + (upper - lower) / 2;
 }
 
+// How every subcommand times a method (hedra's queries and every peer's,
+// so that their times compare): one untimed warm-up call (first-touch page
+// faults, lazy initialisation, cold caches), then `repeat` calls, each timed
+// alone; `time_ns` receives their median, and the last answer is returned.
+// timing_note() says so in the output.
+inline constexpr int kDefaultRepeat = 21;
+
+template <class Call>
+auto warm_median(int repeat, double& time_ns, Call&& call) {
+  decltype(call()) result = call();  // warm-up, untimed
+  std::vector<double> times;
+  times.reserve(static_cast<std::size_t>(repeat > 0 ? repeat : 1));
+  for (int i = 0; i < repeat || i == 0; ++i) {
+    const Clock::time_point start = Clock::now();
+    auto answer = call();
+    const Clock::time_point stop = Clock::now();
+    times.push_back(elapsed_ns(start, stop));
+    result = std::move(answer);
+  }
+  time_ns = median(std::move(times));
+  return result;
+}
+
+// "times: warm (1 untimed call first), median of 21 timed calls".
+inline std::string timing_note(int repeat) {
+  const int n = repeat > 0 ? repeat : 1;
+  return "times: warm (1 untimed call first), median of " + std::to_string(n) +
+         (n == 1 ? " timed call" : " timed calls");
+}
+
 // A duration for a person: "850 ns", "12.3 us" or "4.5 ms".
 inline std::string format_time(double ns) {
   char text[32];

@@ -1283,7 +1283,7 @@ std::string check_continuous(const SceneSpec& scene, const QuerySpec& q, const E
       settings.target_distance = q.target_distance;
       r = collision::shape_cast(a, build_pose(body_a), body_a.end_position.value_or(body_a.position) - body_a.position,
                                 b, build_pose(body_b), body_b.end_position.value_or(body_b.position) - body_b.position,
-                                settings);
+                                nullptr, settings);
     } else {
       auto sweep = [](const BodySpec& body) {
         BodySpec end = body;
@@ -1293,7 +1293,7 @@ std::string check_continuous(const SceneSpec& scene, const QuerySpec& q, const E
       };
       collision::ToiSettings settings;
       settings.target_distance = q.target_distance;
-      r = collision::time_of_impact(a, sweep(body_a), b, sweep(body_b), settings);
+      r = collision::time_of_impact(a, sweep(body_a), b, sweep(body_b), nullptr, settings);
     }
     status = r.status;
     hit = r.hit;

@@ -17,6 +17,11 @@
 //   btSphereShape     Sphere{radius};  btCapsuleShapeZ  Capsule{radius, half height};
 //   btCylinderShapeZ  Cylinder of the half extents without margin, rounded by it;
 //   btConeShapeZ      Cone{radius, height / 2}, rounded by the margin.
+// Margins mean the opposite: hedra's grows the shape (Box{h, m} reaches
+// h + m), Bullet's box and cylinder margins lie inside their extents
+// (btBoxShape(h) reaches h, its core h - m), so a Bullet box of margin m is
+// Box{h - m, m} rounded or Box{h} sharp, never Box{h, m} (m too large);
+// Bullet's hull margin grows the hull, as hedra's does (docs/embedding.md).
 // ShapeCache::set() gives a Bullet shape another hedra shape (a rounded Box
 // for the hull of its corners). hedra keeps a hull's vertices relative to its
 // centroid (ConvexPolyhedron::offset()), so the hull is posed at the body's

@@ -440,9 +440,9 @@ BenchReport run_bench(const BenchOptions& options, const std::vector<Method>& me
       std::size_t failures = 0;
       for (const CaseResult& r : results) failures += r.failure ? 1 : 0;
       char line[200];
-      std::snprintf(line, sizeof line, "bench: %-16s %-20s %3zu cases, %zu failures (%.1f s, elapsed %.0f s)\n",
-                    family.name.c_str(), method.name.c_str(), results.size(), failures, seconds_since(method_start),
-                    seconds_since(start));
+      std::snprintf(line, sizeof line, "bench: %-16s %-20s %3zu case%s, %zu failure%s (%.1f s, elapsed %.0f s)\n",
+                    family.name.c_str(), method.name.c_str(), results.size(), results.size() == 1 ? "" : "s", failures,
+                    failures == 1 ? "" : "s", seconds_since(method_start), seconds_since(start));
       progress << line << std::flush;
       family.results.push_back(std::move(results));
     }

@@ -200,7 +200,11 @@ std::string markdown_report(const BenchReport& report, const RunInfo& info) {
   md << "- date: " << info.date << "\n- machine: " << info.machine << "\n- command: `" << info.command << "`\n";
   md << "- workload: " << info.source << (info.quick ? " (quick)" : "") << ", seed " << info.seed << "\n";
   md << "- load average before / after: " << info.load_before << " / " << info.load_after << "\n";
-  md << "- run time: " << fmt("%.0f", report.elapsed_seconds) << " s (timing and judging; references before)\n";
+  double reference_seconds = 0.0;
+  for (const FamilyRun& family : report.families) reference_seconds += family.reference_seconds;
+  md << "- run time: " << fmt("%.1f", reference_seconds + report.elapsed_seconds) << " s: exact references "
+     << fmt("%.1f", reference_seconds) << " s, then timing and judging " << fmt("%.1f", report.elapsed_seconds)
+     << " s\n";
   md << "- peers: " << (report.peers_built ? "built" : "not built (HEDRA_WITH_PEERS=OFF): hedra only") << "\n";
   md << "- query: " << to_string(report.query) << "\n\n";
   md << question_text(report.query) << "\n\n";

@@ -154,7 +154,16 @@ Judgement judge(QueryType type, const ReferenceAnswer& reference, const MethodAn
   std::string problems, checks;
   auto add = [](std::string& list, const std::string& item) { list += (list.empty() ? "" : "; ") + item; };
   const double sd = reference.exact.distance;
-  const double tolerance = reference.tolerance;
+  // Each method at the precision it computes in: a float peer's default
+  // tolerances are float's (a tolerance from the scene applies to all).
+  const bool at_float = answer.single_precision && !reference.tolerance_from_scene;
+  const double tolerance =
+      at_float ? std::max(reference.tolerance,
+                          reference.exact.error_bound + kSinglePrecisionRelativeTolerance * reference.pair_size)
+               : reference.tolerance;
+  const double angle_tolerance =
+      answer.single_precision ? std::max(reference.angle_tolerance, kSinglePrecisionRelativeTolerance)
+                              : reference.angle_tolerance;
 
   if (const std::optional<bool> expected = reference.intersecting()) {
     const std::string said = std::string("intersecting ") + (answer.intersecting ? "true" : "false");
@@ -190,10 +199,10 @@ Judgement judge(QueryType type, const ReferenceAnswer& reference, const MethodAn
           const double angle = angle_between(*answer.normal, reference.exact.normal);
           j.normal_angle = angle;
           const std::string said_normal = "normal " + vector_text(*answer.normal) + " (angle " + number(angle);
-          if (!(angle <= reference.angle_tolerance)) {
-            add(problems, said_normal + " > " + number(reference.angle_tolerance) + " rad)");
+          if (!(angle <= angle_tolerance)) {
+            add(problems, said_normal + " > " + number(angle_tolerance) + " rad)");
           } else {
-            add(checks, said_normal + " <= " + number(reference.angle_tolerance) + " rad)");
+            add(checks, said_normal + " <= " + number(angle_tolerance) + " rad)");
           }
         }
       }
@@ -345,6 +354,7 @@ JudgedAnswer judged(QueryType type, const ReferenceAnswer& reference, MethodAnsw
 CompareReport compare_hedra(const LoadedScene& loaded, const CompareOptions& options) {
   CompareReport report;
   report.scene = loaded.scene.get();
+  report.repeat = std::max(options.repeat, 1);
   const Scene& scene = *loaded.scene;
   for (std::size_t i = 0; i < scene.queries.size(); ++i) {
     QueryComparison q;
@@ -375,6 +385,7 @@ MethodAnswer peer_answer_header(const Method& method, const Result& result) {
   m.ok = result.ok;
   m.status = result.status;
   m.time_ns = result.supported && std::isfinite(result.time_ns) ? result.time_ns : 0.0;
+  m.single_precision = std::string(method.name).find("_f32") != std::string::npos;
   return m;
 }
 
@@ -412,18 +423,13 @@ MethodAnswer continuous_peer_answer(const peers::ContinuousPeerMethod& method, c
 
 namespace {
 
-// `once` called `repeat` times: the last answer, with the median time.
+// A peer timed as hedra is (warm_median(), timing.hpp): the last answer,
+// with the median time.
 template <typename Result, typename Once>
 Result median_timed(const Once& once, int repeat) {
-  std::vector<double> times;
-  Result result;
-  for (int r = 0; r < repeat; ++r) {
-    const Clock::time_point start = Clock::now();
-    Result answer = once();
-    times.push_back(elapsed_ns(start, Clock::now()));
-    result = std::move(answer);
-  }
-  result.time_ns = median(std::move(times));
+  double time_ns = 0.0;
+  Result result = warm_median(repeat, time_ns, once);
+  result.time_ns = time_ns;
   return result;
 }
 
@@ -655,7 +661,8 @@ std::string continuous_reference_text(const ReferenceAnswer& r) {
 std::string format_compare_text(const CompareReport& report) {
   const Scene& scene = *report.scene;
   std::string text = "scene " + scene.name + " (" + scene.file + "): " + std::to_string(scene.queries.size()) +
-                     (scene.queries.size() == 1 ? " query" : " queries") + "\n";
+                     (scene.queries.size() == 1 ? " query" : " queries") + "; " + timing_note(report.repeat) +
+                     ", every method alike\n";
   if (!report.peers_built) {
     text += std::string(kPeersNotBuilt) + "\n";
   } else if (!report.peers_run) {
@@ -663,12 +670,17 @@ std::string format_compare_text(const CompareReport& report) {
   }
   text +=
       "verdicts against the exact reference (tools/reference): agree, disagree, partial (boolean only), "
-      "unsupported, failed (error, crash or timeout)\n";
+      "unsupported, failed (error, crash or timeout)\n"
+      "precision: each method is judged at the precision it computes in: double (hedra, libccd, FCL, "
+      "bullet_f64_*) at the tolerance shown, float (bullet_f32_*) at that or 16 float eps x size (1.9e-6 x size, "
+      "normals 1.9e-6 rad), whichever is larger\n";
   for (const QueryComparison& q : report.queries) {
     const QuerySpec& spec = scene.queries[q.index];
     const reference::ExactResult& e = q.reference.exact;
-    text += "\n[" + std::to_string(q.index) + "] " + scene.bodies[spec.a].name + "-" + scene.bodies[spec.b].name + " " +
-            to_string(spec.type) + ": reference ";
+    // A ray is ray-<body>, as in `query` and `check`.
+    const std::string pair = spec.type == QueryType::raycast ? "ray-" + scene.bodies[spec.a].name
+                                                             : scene.bodies[spec.a].name + "-" + scene.bodies[spec.b].name;
+    text += "\n[" + std::to_string(q.index) + "] " + pair + " " + to_string(spec.type) + ": reference ";
     const bool continuous = q.reference.continuous.has_value();
     if (continuous) {
       text += continuous_reference_text(q.reference);
@@ -742,6 +754,7 @@ Json json_answer(const JudgedAnswer& j, bool peer) {
   const MethodAnswer& a = j.answer;
   Json r;
   r["method"] = a.method;
+  r["precision"] = a.single_precision ? "float" : "double";
   r["description"] = a.description;
   r["supported"] = a.supported;
   r["ok"] = a.ok;
@@ -751,7 +764,7 @@ Json json_answer(const JudgedAnswer& j, bool peer) {
   r["normal"] = json_vector(a.normal);
   r["point_a"] = json_vector(a.point_a);
   r["point_b"] = json_vector(a.point_b);
-  r["time_ns"] = a.time_ns > 0.0 && std::isfinite(a.time_ns) ? Json(a.time_ns) : Json(nullptr);
+  r["time_ns"] = a.time_ns > 0.0 && std::isfinite(a.time_ns) ? Json(static_cast<long long>(std::llround(a.time_ns))) : Json(nullptr);
   if (peer) r["normal_angle_to_hedra"] = json_number(j.normal_angle_to_hedra);
   r["verdict"] = to_string(j.judgement.verdict);
   r["detail"] = j.judgement.detail;
@@ -778,6 +791,8 @@ std::string format_compare_json(const CompareReport& report) {
   document["file"] = scene.file;
   document["peers_built"] = report.peers_built;
   document["peers_run"] = report.peers_run;
+  document["timing"] = timing_note(report.repeat) + ", every method alike";
+  document["timed_calls"] = report.repeat;
   if (!report.peers_built) document["note"] = kPeersNotBuilt;
   Json queries = Json::array();
   for (const QueryComparison& q : report.queries) {

@@ -58,6 +58,7 @@
 #include <vector>
 
 #include "scene/scene_runner.hpp"
+#include "scene/timing.hpp"
 
 #if defined(HEDRA_COMPARE_WITH_PEERS)
 #  include <continuous.hpp>
@@ -108,7 +109,15 @@ struct MethodAnswer {
   std::optional<Eigen::Vector3d> point_b;
   std::optional<double> fraction;  // continuous queries: in the query's units (1 or max_fraction without a hit)
   double time_ns = 0.0;
+  // Computes in single precision (Bullet's float build, the peers named
+  // *_f32_*): judged at float precision (single_precision_tolerance()).
+  bool single_precision = false;
 };
+
+// A float peer's default tolerances: 16 FLT_EPSILON (1.9e-6) times the
+// pair's size on distances (plus the reference's bound), 16 FLT_EPSILON
+// rad on normals, where double-precision methods get 1e-9 and 1e-6.
+constexpr double kSinglePrecisionRelativeTolerance = 16 * 1.1920928955078125e-7;
 
 struct Judgement {
   Verdict verdict = Verdict::no_reference;
@@ -138,7 +147,7 @@ struct QueryComparison {
 };
 
 struct CompareOptions {
-  int repeat = 1;                     // runs per method and query (median time)
+  int repeat = kDefaultRepeat;        // timed calls per method and query after a warm-up (warm_median())
   double peer_timeout_seconds = 5.0;  // per peer call, under run_isolated
   bool with_peers = true;             // false: hedra against the reference only
 };
@@ -147,6 +156,7 @@ struct CompareReport {
   const Scene* scene = nullptr;
   bool peers_built = false;  // this build has the peers (HEDRA_WITH_PEERS)
   bool peers_run = false;
+  int repeat = kDefaultRepeat;  // how every method was timed (timing_note())
   std::vector<QueryComparison> queries;
 };
 

@@ -1,6 +1,6 @@
 // Shape cast: two shapes translating (no rotation) over a step.
 //
-//   shape_cast(a, pose_a, translation_a, b, pose_b, translation_b, settings, cache)
+//   shape_cast(a, pose_a, translation_a, b, pose_b, translation_b, cache, settings)
 //
 // A moves from pose_a to pose_a + translation_a, B likewise, both linearly
 // over t in [0, 1] at their start orientations. The answer is the first t
@@ -48,7 +48,7 @@ struct ShapeCastSettings {
 // `cache` (optional): the pair's last separating axis and polyhedron support
 // hints (A's core frame, as for distance()); one per pair and thread.
 CastResult shape_cast(const Shape& a, const Pose& pose_a, const Eigen::Vector3d& translation_a, const Shape& b,
-                      const Pose& pose_b, const Eigen::Vector3d& translation_b, const ShapeCastSettings& settings = {},
-                      GjkCache* cache = nullptr);
+                      const Pose& pose_b, const Eigen::Vector3d& translation_b, GjkCache* cache = nullptr,
+                      const ShapeCastSettings& settings = {});
 
 }  // namespace hedra::collision

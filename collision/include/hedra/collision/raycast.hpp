@@ -17,6 +17,9 @@
 // A ray starting inside (or within the tolerance of) the shape hits at 0 with
 // started_inside and no normal. The tolerance is settings.tolerance times the
 // shape's size, and never below the rounding of the ray's coordinates.
+// invalid_input: the shape fails validate(), the pose is not valid(), the
+// origin or direction is not finite (or beyond max_coordinate), the
+// direction is zero, or max_fraction is negative or not finite.
 #pragma once
 
 #include <Eigen/Core>

@@ -94,6 +94,37 @@ struct Cone {
   double margin = 0.0;
 };
 
+// Named parameters for the factories below: each wraps one number and has
+// an explicit constructor, so a size is always written with its name
+// (`Radius{0.3}`), never as a bare number or an unnamed `{0.3}`.
+struct Radius {
+  explicit constexpr Radius(double v) : value(v) {}
+  double value;
+};
+struct HalfLength {
+  explicit constexpr HalfLength(double v) : value(v) {}
+  double value;
+};
+struct HalfExtents {
+  explicit HalfExtents(const Eigen::Vector3d& v) : value(v) {}
+  HalfExtents(double x, double y, double z) : value(x, y, z) {}
+  Eigen::Vector3d value;
+};
+struct Margin {
+  explicit constexpr Margin(double v) : value(v) {}
+  double value;
+};
+
+// Shapes whose meaning cannot be swapped silently: make_capsule(Radius{0.3},
+// HalfLength{0.5}) is the capsule of radius 0.3, and the arguments in the
+// other order do not compile. The aggregates (Capsule{radius, half_length,
+// margin}) stay for code that names its fields; these say the same.
+inline Sphere make_sphere(Radius r, Margin m = Margin{0.0}) { return {r.value, m.value}; }
+inline Box make_box(const HalfExtents& h, Margin m = Margin{0.0}) { return {h.value, m.value}; }
+inline Capsule make_capsule(Radius r, HalfLength h, Margin m = Margin{0.0}) { return {r.value, h.value, m.value}; }
+inline Cylinder make_cylinder(Radius r, HalfLength h, Margin m = Margin{0.0}) { return {r.value, h.value, m.value}; }
+inline Cone make_cone(Radius r, HalfLength h, Margin m = Margin{0.0}) { return {r.value, h.value, m.value}; }
+
 class ConvexPolyhedron {
  public:
   struct BuildResult {

@@ -1,6 +1,6 @@
 // Time of impact of two shapes moving with rotation over a step.
 //
-//   time_of_impact(a, sweep_a, b, sweep_b, settings, cache)
+//   time_of_impact(a, sweep_a, b, sweep_b, cache, settings)
 //
 // A Sweep moves a body from its start pose to its end pose over t in [0, 1]:
 // its origin (the shape's local origin) linearly, its orientation about that
@@ -73,6 +73,6 @@ struct ToiSettings {
 // `cache` (optional): the last separating axis and polyhedron support hints
 // (A's core frame), the warm start of the first step; one per pair and thread.
 CastResult time_of_impact(const Shape& a, const Sweep& sweep_a, const Shape& b, const Sweep& sweep_b,
-                          const ToiSettings& settings = {}, GjkCache* cache = nullptr);
+                          GjkCache* cache = nullptr, const ToiSettings& settings = {});
 
 }  // namespace hedra::collision

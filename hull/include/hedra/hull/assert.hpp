@@ -1,9 +1,11 @@
 // HEDRA_ASSERT: checks for programming errors (broken invariants inside the
 // library), never for bad input: bad input travels as a status or an error
-// value. On by default in Debug and RelWithDebInfo builds (NDEBUG unset) or
-// when HEDRA_ENABLE_ASSERTS is defined; an embedder can route failures to its
-// own handler by defining HEDRA_ASSERT_HANDLER(expr, file, line) before
-// including any hedra header.
+// value. On when NDEBUG is unset (CMake's Debug; its Release, RelWithDebInfo
+// and MinSizeRel define NDEBUG, so off there) or when HEDRA_ENABLE_ASSERTS is
+// defined (the CMake option -DHEDRA_ENABLE_ASSERTS=ON defines it for the
+// libraries and everything linking them; the fuzz preset sets it). An
+// embedder can route failures to its own handler by defining
+// HEDRA_ASSERT_HANDLER(expr, file, line) before including any hedra header.
 #pragma once
 
 #include <cstdio>
