@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "closed_form.hpp"
+#include "query_detail.hpp"
 
 namespace hedra::collision {
 
@@ -490,6 +491,28 @@ IntersectResult intersect(const Shape& a, const Pose& pose_a, const Shape& b, co
   if (!inputs_valid(a, pose_a, b, pose_b)) return {Status::invalid_input, false, 0};
   return std::visit(
       [&](const auto& sa, const auto& sb) { return intersect_typed(sa, pose_a, sb, pose_b, cache, settings); }, a, b);
+}
+
+bool separated_beyond(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, double gap,
+                      const GjkSettings& settings) {
+  if (!(gap >= 0.0) || !inputs_valid(a, pose_a, b, pose_b)) return false;
+  return detail::separated_beyond_unchecked(a, pose_a, b, pose_b, gap, settings);
+}
+
+bool detail::separated_beyond_unchecked(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                                        double gap, const GjkSettings& settings) {
+  HEDRA_ASSERT(gap >= 0.0 && inputs_valid(a, pose_a, b, pose_b));
+  return std::visit(
+      [&](const auto& sa, const auto& sb) {
+        using SA = std::decay_t<decltype(sa)>;
+        using SB = std::decay_t<decltype(sb)>;
+        PairSetup<SA, SB> p(sa, pose_a, sb, pose_b, nullptr);
+        const Transformed<decltype(p.core_b)> placed_b{p.core_b, p.relative.rotation, p.relative.translation};
+        const GjkResult g =
+            gjk_intersect(p.core_a, placed_b, p.initial_axis, p.scale, p.radius_a + p.radius_b + gap, settings);
+        return g.status == GjkStatus::ok && !g.intersecting;
+      },
+      a, b);
 }
 
 DistanceResult distance(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, GjkCache* cache,

@@ -9,6 +9,8 @@
 #include <limits>
 #include <type_traits>
 
+#include "query_detail.hpp"
+
 namespace hedra::collision {
 namespace {
 
@@ -191,19 +193,17 @@ std::uint32_t World::build_node(std::uint32_t begin, std::uint32_t end) {
   nodes_.emplace_back();
   Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   Vec clo = lo, chi = hi;
-  std::uint32_t max_body = 0;
   for (std::uint32_t k = begin; k < end; ++k) {
     const std::uint32_t body = order_[k];
     lo = lo.cwiseMin(boxes_[body].lo);
     hi = hi.cwiseMax(boxes_[body].hi);
     clo = clo.cwiseMin(centres_[body]);
     chi = chi.cwiseMax(centres_[body]);
-    max_body = std::max(max_body, body);
   }
   {
     Node& node = nodes_[index];
     for (int k = 0; k < 3; ++k) node.lo[k] = lo[k], node.hi[k] = hi[k];
-    node.max_body = max_body;
+    node.last = end - 1;
   }
   if (end - begin <= kLeafSize) {
     nodes_[index].first = begin;
@@ -256,6 +256,12 @@ double World::refit_tree() {
 void World::update_tree(TreeUpdate mode, const ParallelSettings& parallel) {
   stats_.rebuilt = false;
   update_boxes(parallel);
+  const Clock::time_point serial_start = Clock::now();  // the rest runs on the calling thread
+  struct SerialTimer {
+    WorldStats& stats;
+    Clock::time_point start;
+    ~SerialTimer() { stats.serial_seconds += std::chrono::duration<double>(Clock::now() - start).count(); }
+  } timer{stats_, serial_start};
   if (tree_bodies_ != size() || mode == TreeUpdate::rebuild) {
     build_tree();
     stats_.rebuilt = true;
@@ -332,81 +338,143 @@ bool query_pair(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, 
 
 }  // namespace
 
-void World::query_bodies(std::size_t begin, std::size_t end, const PairSettings& settings,
-                         ChunkScratch& scratch) const {
-  scratch.results.clear();
-  scratch.candidate_count = 0;
-  ContactSettings contact_settings = settings.contact;
-  contact_settings.contact_distance = settings.max_distance;
-  const double d = settings.max_distance;
-  constexpr int kStackSize = 128;
+// Step 1: the candidates of the bodies at leaf positions [begin, end).
+void World::find_candidates(std::size_t begin, std::size_t end, double max_distance,
+                            std::vector<std::uint64_t>& keys) const {
+  keys.clear();
+  const double d = max_distance;
+  constexpr int kStackSize = 128;  // the tree's depth is about log2(n / kLeafSize)
   std::uint32_t stack[kStackSize];
-  for (std::size_t body = begin; body < end; ++body) {
-    const auto i = static_cast<std::uint32_t>(body);
-    const Aabb& box = boxes_[i];
+  for (std::size_t position = begin; position < end; ++position) {
+    const auto k = static_cast<std::uint32_t>(position);
+    const std::uint32_t i = order_[k];
+    const Aabb& box = leaf_boxes_[k];
     const Vec qlo = (box.lo.array() - d - kBoxRounding * (box.lo.array().abs() + d)).matrix();
     const Vec qhi = (box.hi.array() + d + kBoxRounding * (box.hi.array().abs() + d)).matrix();
-    // Candidates j > i whose boxes overlap and that pass the filter.
-    scratch.candidates.clear();
     int top = 0;
-    if (!nodes_.empty() && nodes_[0].max_body > i) stack[top++] = 0;
+    if (!nodes_.empty() && nodes_[0].last > k) stack[top++] = 0;
     while (top > 0) {
-      const Node& node = nodes_[stack[--top]];
+      const std::uint32_t index = stack[--top];
+      const Node& node = nodes_[index];
       if (!overlaps(node.lo, node.hi, qlo, qhi)) continue;
       if (node.count > 0) {
-        for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-          const std::uint32_t j = order_[k];
-          if (j <= i || !overlaps(leaf_boxes_[k].lo.data(), leaf_boxes_[k].hi.data(), qlo, qhi)) continue;
+        for (std::uint32_t p = std::max(node.first, k + 1); p < node.first + node.count; ++p) {
+          if (!overlaps(leaf_boxes_[p].lo.data(), leaf_boxes_[p].hi.data(), qlo, qhi)) continue;
+          const std::uint32_t j = order_[p];
           if ((group_[i] & mask_[j]) == 0 || (group_[j] & mask_[i]) == 0 || ignored(i, j)) continue;
-          scratch.candidates.push_back(j);
+          keys.push_back(pair_key(i, j));
         }
         continue;
       }
-      const auto index = static_cast<std::uint32_t>(&node - nodes_.data());
       HEDRA_ASSERT(top + 2 <= kStackSize);
-      if (nodes_[node.first].max_body > i) stack[top++] = node.first;
-      if (nodes_[index + 1].max_body > i) stack[top++] = index + 1;
+      // Subtrees wholly at or before position k hold no later body.
+      if (nodes_[node.first].last > k) stack[top++] = node.first;
+      if (nodes_[index + 1].last > k) stack[top++] = index + 1;
     }
-    std::sort(scratch.candidates.begin(), scratch.candidates.end());
-    scratch.candidate_count += scratch.candidates.size();
-    for (const std::uint32_t j : scratch.candidates) {
-      PairResult result;
-      result.a = i;
-      result.b = j;
-      const double band = kTouchingBand * std::max(radius_[i], radius_[j]);
-      if (query_pair(shapes_[i], poses_[i], shapes_[j], poses_[j], band, settings, contact_settings, result))
-        scratch.results.push_back(result);
+  }
+}
+
+// Step 2: every chunk's keys, sorted (LSD radix sort, 11 bits a pass, over
+// the bits the keys use).
+void World::gather_candidates() {
+  std::size_t total = 0;
+  const std::size_t chunks = parallel_chunk_count(size());
+  for (std::size_t c = 0; c < chunks; ++c) total += chunks_[c].keys.size();
+  candidates_.clear();
+  candidates_.reserve(total);
+  for (std::size_t c = 0; c < chunks; ++c)
+    candidates_.insert(candidates_.end(), chunks_[c].keys.begin(), chunks_[c].keys.end());
+  sort_scratch_.resize(total);
+  int bits = 0;
+  while (bits < 32 && (std::uint64_t{1} << bits) < size()) ++bits;
+  constexpr int kDigit = 11;
+  std::uint64_t* from = candidates_.data();
+  std::uint64_t* to = sort_scratch_.data();
+  int passes = 0;
+  for (int shift : {0, 32}) {
+    for (int low = 0; low < bits; low += kDigit, ++passes) {
+      std::size_t count[(1 << kDigit) + 1] = {};
+      const int at = shift + low;
+      for (std::size_t i = 0; i < total; ++i) ++count[((from[i] >> at) & ((1u << kDigit) - 1)) + 1];
+      for (int b = 0; b < (1 << kDigit); ++b) count[b + 1] += count[b];
+      for (std::size_t i = 0; i < total; ++i) to[count[(from[i] >> at) & ((1u << kDigit) - 1)]++] = from[i];
+      std::swap(from, to);
     }
+  }
+  if (passes % 2 == 1) candidates_.swap(sort_scratch_);
+  HEDRA_ASSERT(std::is_sorted(candidates_.begin(), candidates_.end()));
+}
+
+// Step 3: the queries of the sorted candidates [begin, end).
+void World::query_candidates(std::size_t begin, std::size_t end, const PairSettings& settings,
+                             std::vector<PairResult>& results) const {
+  results.clear();
+  ContactSettings contact_settings = settings.contact;
+  contact_settings.contact_distance = settings.max_distance;
+  for (std::size_t c = begin; c < end; ++c) {
+    PairResult result;
+    result.a = static_cast<std::uint32_t>(candidates_[c] >> 32);
+    result.b = static_cast<std::uint32_t>(candidates_[c]);
+    if (settings.broadphase_only) {
+      results.push_back(result);
+      continue;
+    }
+    const std::uint32_t i = result.a, j = result.b;
+    const double band = kTouchingBand * std::max(radius_[i], radius_[j]);
+    // A pair certified apart beyond the reach is not kept by any query: the
+    // cheap boolean GJK settles it (the intersect query at 0 is that test).
+    const bool boolean_only = settings.query == PairQuery::intersect && settings.max_distance == 0.0;
+    if (!boolean_only) {
+      // Shapes and poses were validated when they entered the world; the
+      // pair's extent is settled by the radii unless both are tiny.
+      const double gap = settings.max_distance + band;
+      const bool apart = std::max(radius_[i], radius_[j]) >= min_pair_extent
+                             ? detail::separated_beyond_unchecked(shapes_[i], poses_[i], shapes_[j], poses_[j], gap,
+                                                                  settings.gjk)
+                             : separated_beyond(shapes_[i], poses_[i], shapes_[j], poses_[j], gap, settings.gjk);
+      if (apart) continue;
+    }
+    if (query_pair(shapes_[i], poses_[i], shapes_[j], poses_[j], band, settings, contact_settings, result))
+      results.push_back(result);
   }
 }
 
 void World::pairs(const PairSettings& settings, std::vector<PairResult>& out) {
   out.clear();
   stats_.candidates = stats_.pairs = 0;
+  stats_.serial_seconds = 0.0;
   const Clock::time_point start = Clock::now();
   update_tree(settings.tree_update, settings.parallel);
   const Clock::time_point updated = Clock::now();
   stats_.update_seconds = std::chrono::duration<double>(updated - start).count();
   if (!(settings.max_distance >= 0.0) || !std::isfinite(settings.max_distance)) return;
   const std::size_t n = size();
-  const std::size_t chunk_count = parallel_chunk_count(n);
-  if (chunks_.size() < chunk_count) chunks_.resize(chunk_count);
+  if (chunks_.size() < kMaxParallelChunks) chunks_.resize(kMaxParallelChunks);
   parallel_for_chunks(n, settings.parallel, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
-    query_bodies(begin, end, settings, chunks_[chunk]);
+    find_candidates(begin, end, settings.max_distance, chunks_[chunk].keys);
   });
+  const Clock::time_point gather_start = Clock::now();
+  gather_candidates();
+  stats_.serial_seconds += std::chrono::duration<double>(Clock::now() - gather_start).count();
+  stats_.broadphase_seconds = std::chrono::duration<double>(Clock::now() - updated).count();
+  const std::size_t m = candidates_.size();
+  stats_.candidates = m;
+  parallel_for_chunks(m, settings.parallel, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    query_candidates(begin, end, settings, chunks_[chunk].results);
+  });
+  const Clock::time_point merge_start = Clock::now();
+  const std::size_t chunks = parallel_chunk_count(m);
   std::size_t total = 0;
-  for (std::size_t c = 0; c < chunk_count; ++c) {
-    total += chunks_[c].results.size();
-    stats_.candidates += chunks_[c].candidate_count;
-  }
+  for (std::size_t c = 0; c < chunks; ++c) total += chunks_[c].results.size();
   out.reserve(total);
-  for (std::size_t c = 0; c < chunk_count; ++c)
+  for (std::size_t c = 0; c < chunks; ++c)
     out.insert(out.end(), chunks_[c].results.begin(), chunks_[c].results.end());
   stats_.pairs = out.size();
+  stats_.serial_seconds += std::chrono::duration<double>(Clock::now() - merge_start).count();
   stats_.query_seconds = std::chrono::duration<double>(Clock::now() - updated).count();
-  std::size_t memory = 0;
+  std::size_t memory = (candidates_.capacity() + sort_scratch_.capacity()) * sizeof(std::uint64_t);
   for (const ChunkScratch& c : chunks_)
-    memory += c.results.capacity() * sizeof(PairResult) + c.candidates.capacity() * sizeof(std::uint32_t);
+    memory += c.results.capacity() * sizeof(PairResult) + c.keys.capacity() * sizeof(std::uint64_t);
   memory += shapes_.capacity() * sizeof(Shape) + poses_.capacity() * sizeof(Pose) +
             (group_.capacity() + mask_.capacity() + order_.capacity()) * sizeof(std::uint32_t) +
             (radius_.capacity() + local_extent_.capacity()) * sizeof(double) +

@@ -17,6 +17,8 @@
 #include <thread>
 #include <vector>
 
+#include "allocation_counter.hpp"
+
 namespace hedra::collision {
 namespace {
 
@@ -262,6 +264,35 @@ TEST(World, MovingBodiesRefitOrRebuildAndStayExact) {
   EXPECT_GT(refit.stats().tree_cost_ratio, World::kRebuildCostRatio);
 }
 
+// Once its arrays have grown, a frame (moved poses, refit, candidates,
+// queries, the output) allocates nothing, on one thread and on the pool.
+TEST(World, SteadyFramesAllocateNothing) {
+  Scene scene = random_scene(13, 400, 1.0, 1.0, 12.0, Vec::Zero());
+  World world = make_world(scene);
+  std::vector<PairResult> out;
+  for (PairQuery q : {PairQuery::penetration, PairQuery::contact}) {
+    for (int threads : {1, 2, 0}) {
+      PairSettings s;
+      s.query = q;
+      s.max_distance = 0.05;
+      s.parallel.threads = threads;
+      s.tree_update = TreeUpdate::refit;
+      for (int frame = 0; frame < 3; ++frame) {  // warm-up: every chunk's arrays reach their size
+        world.set_poses(scene.poses.data(), scene.poses.size());
+        world.pairs(s, out);
+      }
+      const std::size_t found = out.size();
+      for (Pose& p : scene.poses) p.translation.x() += 1e-7;
+      world.set_poses(scene.poses.data(), scene.poses.size());
+      const long before = g_allocations.load();
+      world.pairs(s, out);
+      EXPECT_EQ(g_allocations.load(), before) << "query " << int(q) << " threads " << threads;
+      EXPECT_EQ(out.size(), found);
+      EXPECT_GT(found, 50u);
+    }
+  }
+}
+
 TEST(World, FilterAndIgnoredPairs) {
   World world;
   const Box box{Vec(1, 1, 1), 0.0};
@@ -276,6 +307,36 @@ TEST(World, FilterAndIgnoredPairs) {
   const std::vector<std::pair<std::uint32_t, std::uint32_t>> expected{{0, 1}, {1, 2}};
   EXPECT_EQ(ids(out), expected);
   for (const PairResult& r : out) EXPECT_TRUE(r.intersecting && r.distance < 0.0);
+}
+
+// separated_beyond: true only when GJK certifies a gap larger than asked.
+TEST(World, SeparatedBeyondCertifiesTheGapItIsAsked) {
+  const Sphere ball{1.0, 0.0};
+  const Box box{Vec(1.0, 2.0, 3.0), 0.0};
+  const Pose origin{};
+  const Pose apart = Pose::from_translation(Vec(3.5, 0.0, 0.0));  // sphere-box gap 1.5, sphere-sphere 1.5
+  EXPECT_TRUE(separated_beyond(ball, origin, ball, apart, 1.4));
+  EXPECT_FALSE(separated_beyond(ball, origin, ball, apart, 1.6));
+  EXPECT_TRUE(separated_beyond(box, origin, ball, Pose::from_translation(Vec(2.5, 0.0, 0.0)), 0.49));
+  EXPECT_FALSE(separated_beyond(box, origin, ball, Pose::from_translation(Vec(2.5, 0.0, 0.0)), 0.51));
+  EXPECT_FALSE(separated_beyond(box, origin, ball, Pose::from_translation(Vec(1.5, 0.0, 0.0)), 0.0));  // overlapping
+  EXPECT_FALSE(separated_beyond(ball, origin, ball, apart, -1.0));
+  EXPECT_FALSE(separated_beyond(Sphere{-1.0, 0.0}, origin, ball, apart, 0.0));
+  EXPECT_FALSE(separated_beyond(ball, Pose::from_translation(Vec(NAN, 0, 0)), ball, apart, 0.0));
+  // Agrees with the distance on random pairs, away from the threshold.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Scene scene = random_scene(12, 60, 1.0, 1.0, 6.0, Vec::Zero());
+  int apart_count = 0;
+  for (std::size_t i = 0; i + 1 < scene.shapes.size(); ++i) {
+    const double d = distance(scene.shapes[i], scene.poses[i], scene.shapes[i + 1], scene.poses[i + 1]).distance;
+    const double gap = std::abs(u(rng));
+    if (std::abs(d - gap) < 1e-6) continue;
+    const bool apart = separated_beyond(scene.shapes[i], scene.poses[i], scene.shapes[i + 1], scene.poses[i + 1], gap);
+    EXPECT_EQ(apart, d > gap) << i << " distance " << d << " gap " << gap;
+    apart_count += apart;
+  }
+  EXPECT_GT(apart_count, 10);
 }
 
 TEST(World, BadInputAddsNothingAndChangesNothing) {

@@ -6,10 +6,14 @@
 // either builds its shapes or says why (naming the file); every query of a
 // built scene runs (at most 8, so one input stays fast) and every number it
 // reports is finite (a continuous query's fraction too, and >= 0, and its
-// default fraction tolerance is a number >= 0). Mesh files resolve relative to a directory that holds
+// default fraction tolerance is a number >= 0); a query over all pairs
+// ("pairs": "all") answers pairs a < b sorted by (a, b), with finite numbers,
+// and the same pairs and numbers on 1 and 2 threads. Mesh files resolve relative to a directory that holds
 // none, so a "file" shape exercises the unreadable-file path.
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <utility>
 #include <string>
 
 #include "fuzz_input.hpp"
@@ -20,6 +24,36 @@ namespace {
 
 bool finite_opt(const std::optional<double>& x) { return !x || std::isfinite(*x); }
 bool finite_opt(const std::optional<Eigen::Vector3d>& v) { return !v || v->allFinite(); }
+
+bool same(const std::optional<double>& x, const std::optional<double>& y) {
+  return x.has_value() == y.has_value() && (!x || std::memcmp(&*x, &*y, sizeof(double)) == 0);
+}
+bool same(const std::optional<Eigen::Vector3d>& x, const std::optional<Eigen::Vector3d>& y) {
+  return x.has_value() == y.has_value() && (!x || std::memcmp(x->data(), y->data(), 3 * sizeof(double)) == 0);
+}
+
+void check_all_pairs(const hedra::tool::BuiltScene& built, std::size_t q) {
+  const hedra::tool::AllPairsOutcome one = hedra::tool::run_all_pairs(built, q, 1, 1);
+  const hedra::tool::AllPairsOutcome two = hedra::tool::run_all_pairs(built, q, 1, 2);
+  HEDRA_FUZZ_CHECK(one.pairs.size() == two.pairs.size(), "query %zu: %zu pairs on 1 thread, %zu on 2", q,
+                   one.pairs.size(), two.pairs.size());
+  for (std::size_t k = 0; k < one.pairs.size(); ++k) {
+    const hedra::tool::QueryOutcome &x = one.pairs[k], &y = two.pairs[k];
+    HEDRA_FUZZ_CHECK(x.body_a < x.body_b && x.body_b < built.scene->bodies.size(), "query %zu: pair %zu (%zu, %zu)", q,
+                     k, x.body_a, x.body_b);
+    HEDRA_FUZZ_CHECK(k == 0 || std::make_pair(one.pairs[k - 1].body_a, one.pairs[k - 1].body_b) <
+                                   std::make_pair(x.body_a, x.body_b),
+                     "query %zu: pair %zu out of order", q, k);
+    HEDRA_FUZZ_CHECK(finite_opt(x.distance) && finite_opt(x.normal) && finite_opt(x.point_a) &&
+                         finite_opt(x.point_b) && std::isfinite(x.error_bound),
+                     "query %zu: pair %zu: a non-finite number (status %s)", q, k, x.status.c_str());
+    HEDRA_FUZZ_CHECK(x.body_a == y.body_a && x.body_b == y.body_b && x.status == y.status &&
+                         x.intersecting == y.intersecting && same(x.distance, y.distance) && same(x.normal, y.normal) &&
+                         same(x.point_a, y.point_a) && same(x.point_b, y.point_b) &&
+                         x.contacts.size() == y.contacts.size(),
+                     "query %zu: pair %zu differs between 1 and 2 threads", q, k);
+  }
+}
 
 }  // namespace
 
@@ -48,6 +82,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   for (std::size_t q = 0; q < scene.queries.size() && q < 8; ++q) {
+    if (scene.queries[q].all_pairs) {
+      check_all_pairs(*built.built, q);
+      continue;
+    }
     const hedra::tool::QueryOutcome out = hedra::tool::run_query(*built.built, q);
     HEDRA_FUZZ_CHECK(finite_opt(out.distance) && finite_opt(out.normal) && finite_opt(out.point_a) &&
                          finite_opt(out.point_b) && std::isfinite(out.error_bound),

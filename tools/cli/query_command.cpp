@@ -10,6 +10,10 @@
 // query between overlapping shapes); nothing is ever NaN. The continuous
 // queries (raycast, cast, toi) have records of their own (continuous_json):
 // their vector fields are zero, not null, when there is no hit.
+//
+// A query over all pairs ("pairs": "all") gives one record per answered pair
+// (scene_runner.hpp, run_all_pairs), in (a, b) order, on --threads threads
+// (default 0: all cores; the records are the same for any count).
 #include "cli/query_command.hpp"
 
 #include <CLI/CLI.hpp>
@@ -34,6 +38,21 @@ struct QueryOptions {
   bool json = false;
   int repeat = 1;  // the scene format's default (one warm, timed call)
   bool stats = false;
+  int threads = 0;  // 0: all cores
+};
+
+constexpr int kMaxThreads = 1024;
+
+// One result record: query `query`'s answer (one of many for all pairs).
+struct Record {
+  std::size_t query = 0;
+  QueryOutcome outcome;
+};
+// What an all-pairs query did (for --stats).
+struct AllPairsStats {
+  std::size_t query = 0;
+  std::size_t bodies = 0, candidates = 0, pairs = 0;
+  double time_ns = 0.0;
 };
 
 constexpr int kMaxRepeat = 1000000;
@@ -51,7 +70,7 @@ nlohmann::ordered_json continuous_json(const Scene& scene, const QuerySpec& q, c
   nlohmann::ordered_json r;
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
   if (q.type == QueryType::raycast) {
-    r["body"] = scene.bodies[q.a].name;
+    r["body"] = scene.bodies[o.body_a].name;
     r["type"] = to_string(q.type);
     r["hit"] = o.hit;
     r["fraction"] = o.fraction;
@@ -59,8 +78,8 @@ nlohmann::ordered_json continuous_json(const Scene& scene, const QuerySpec& q, c
     r["normal"] = vector_json(o.normal.value_or(zero));
     r["initially_overlapping"] = o.initially_overlapping;  // the ray started inside
   } else {
-    r["a"] = scene.bodies[q.a].name;
-    r["b"] = scene.bodies[q.b].name;
+    r["a"] = scene.bodies[o.body_a].name;
+    r["b"] = scene.bodies[o.body_b].name;
     r["type"] = to_string(q.type);
     r["hit"] = o.hit;
     r["fraction"] = o.fraction;
@@ -80,24 +99,24 @@ nlohmann::ordered_json continuous_json(const Scene& scene, const QuerySpec& q, c
   return r;
 }
 
-std::string format_json(const LoadedScene& loaded, const std::vector<QueryOutcome>& outcomes, bool stats,
-                        int repeat) {
+std::string format_json(const LoadedScene& loaded, const std::vector<Record>& records,
+                        const std::vector<AllPairsStats>& all_pairs, bool stats, int repeat) {
   const Scene& scene = *loaded.scene;
   nlohmann::ordered_json document;
   document["scene"] = scene.name;
   document["timing"] = timing_note(repeat);
   document["timed_calls"] = repeat;
   nlohmann::ordered_json results = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < outcomes.size(); ++i) {
-    const QueryOutcome& o = outcomes[i];
-    const QuerySpec& q = scene.queries[i];
+  for (const Record& record : records) {
+    const QueryOutcome& o = record.outcome;
+    const QuerySpec& q = scene.queries[record.query];
     if (is_continuous(q.type)) {
       results.push_back(continuous_json(scene, q, o, stats));
       continue;
     }
     nlohmann::ordered_json r;
-    r["a"] = scene.bodies[q.a].name;
-    r["b"] = scene.bodies[q.b].name;
+    r["a"] = scene.bodies[o.body_a].name;
+    r["b"] = scene.bodies[o.body_b].name;
     r["type"] = to_string(q.type);
     r["intersecting"] = o.intersecting;
     r["distance"] = o.distance ? nlohmann::ordered_json(*o.distance) : nlohmann::ordered_json(nullptr);
@@ -133,6 +152,14 @@ std::string format_json(const LoadedScene& loaded, const std::vector<QueryOutcom
                          {"bodies", scene.bodies.size()},
                          {"queries", scene.queries.size()},
                          {"build_ns", built.build_ns}};
+    nlohmann::ordered_json pairs = nlohmann::ordered_json::array();
+    for (const AllPairsStats& a : all_pairs)
+      pairs.push_back({{"query", a.query},
+                       {"bodies", a.bodies},
+                       {"candidates", a.candidates},
+                       {"pairs", a.pairs},
+                       {"time_ns", a.time_ns}});
+    if (!all_pairs.empty()) document["stats"]["all_pairs"] = std::move(pairs);
   }
   return document.dump() + "\n";
 }
@@ -144,8 +171,8 @@ std::string format_vector(const std::optional<Eigen::Vector3d>& v) {
   return text;
 }
 
-std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcome>& outcomes,
-                        const QueryOptions& options) {
+std::string format_text(const LoadedScene& loaded, const std::vector<Record>& records,
+                        const std::vector<AllPairsStats>& all_pairs, const QueryOptions& options) {
   const Scene& scene = *loaded.scene;
   std::string text = "scene " + scene.name + " (" + scene.file + "): " + std::to_string(scene.queries.size()) +
                      (scene.queries.size() == 1 ? " query" : " queries") + "; " + timing_note(options.repeat) + "\n";
@@ -156,8 +183,9 @@ std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcom
   std::snprintf(line, sizeof line, "%3s  %-12s %-12s %-11s %-14s %-7s %-28s %-32s %4s %4s %10s\n", "#", "a", "b",
                 "type", "status", "answer", "distance", "normal", "gjk", "epa", "time");
   text += line;
-  for (std::size_t i = 0; i < outcomes.size(); ++i) {
-    const QueryOutcome& o = outcomes[i];
+  for (const Record& record : records) {
+    const std::size_t i = record.query;
+    const QueryOutcome& o = record.outcome;
     const QuerySpec& q = scene.queries[i];
     const std::string distance = o.distance ? shortest(*o.distance) : "-";
     if (is_continuous(q.type)) {
@@ -171,14 +199,14 @@ std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcom
       }
       const bool ray = q.type == QueryType::raycast;
       std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-7s %-28s %-32s %4d %4s %10s\n", i,
-                    ray ? "ray" : scene.bodies[q.a].name.c_str(), scene.bodies[ray ? q.a : q.b].name.c_str(),
+                    ray ? "ray" : scene.bodies[o.body_a].name.c_str(), scene.bodies[ray ? o.body_a : o.body_b].name.c_str(),
                     to_string(q.type), o.status.c_str(), o.hit ? "hit" : "miss", at, format_vector(o.normal).c_str(),
                     o.cast_iterations, "-", format_time(o.time_ns).c_str());
       text += line;
       continue;
     }
     std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-7s %-28s %-32s %4d %4d %10s\n", i,
-                  scene.bodies[q.a].name.c_str(), scene.bodies[q.b].name.c_str(), to_string(q.type), o.status.c_str(),
+                  scene.bodies[o.body_a].name.c_str(), scene.bodies[o.body_b].name.c_str(), to_string(q.type), o.status.c_str(),
                   o.intersecting ? "overlap" : "apart", distance.c_str(), format_vector(o.normal).c_str(), o.gjk_iterations,
                   o.epa_iterations, format_time(o.time_ns).c_str());
     text += line;
@@ -189,8 +217,15 @@ std::string format_text(const LoadedScene& loaded, const std::vector<QueryOutcom
                   built.shapes_built, scene.shapes.size(), built.hulls_built, built.hulls_built == 1 ? "" : "s",
                   built.mesh_files_read, built.mesh_files_read == 1 ? "" : "s", format_time(built.build_ns).c_str());
     text += line;
-    for (std::size_t i = 0; i < outcomes.size(); ++i) {
-      const QueryOutcome& o = outcomes[i];
+    for (const AllPairsStats& a : all_pairs) {
+      std::snprintf(line, sizeof line, "  #%zu all pairs: %zu bodies, %zu candidate%s, %zu pair%s in %s\n", a.query,
+                    a.bodies, a.candidates, a.candidates == 1 ? "" : "s", a.pairs, a.pairs == 1 ? "" : "s",
+                    format_time(a.time_ns).c_str());
+      text += line;
+    }
+    for (const Record& record : records) {
+      const std::size_t i = record.query;
+      const QueryOutcome& o = record.outcome;
       if (is_continuous(o.type)) {
         std::snprintf(line, sizeof line, "  #%zu %s: %d iteration%s, %d support call%s, error bound %.3g\n", i,
                       to_string(o.type), o.cast_iterations, o.cast_iterations == 1 ? "" : "s", o.support_calls,
@@ -218,15 +253,23 @@ int run_query_command(const QueryOptions& options, std::string& out, std::ostrea
     err << error << "\n";
     return kExitBadInput;
   }
-  std::vector<QueryOutcome> outcomes;
-  outcomes.reserve(loaded->scene->queries.size());
+  std::vector<Record> records;
+  std::vector<AllPairsStats> all_pairs;
+  records.reserve(loaded->scene->queries.size());
   progress.stage("running queries", loaded->scene->queries.size());
   for (std::size_t i = 0; i < loaded->scene->queries.size(); ++i) {
-    outcomes.push_back(run_query(loaded->built, i, options.repeat));
+    if (loaded->scene->queries[i].all_pairs) {
+      AllPairsOutcome pairs = run_all_pairs(loaded->built, i, options.repeat, options.threads);
+      all_pairs.push_back({i, pairs.bodies, pairs.candidates, pairs.pairs.size(), pairs.time_ns});
+      for (QueryOutcome& o : pairs.pairs) records.push_back({i, std::move(o)});
+    } else {
+      records.push_back({i, run_query(loaded->built, i, options.repeat)});
+    }
     progress.advance();
   }
   progress.stage("formatting the output");
-  out = options.json ? format_json(*loaded, outcomes, options.stats, options.repeat) : format_text(*loaded, outcomes, options);
+  out = options.json ? format_json(*loaded, records, all_pairs, options.stats, options.repeat)
+                     : format_text(*loaded, records, all_pairs, options);
   return kExitOk;
 }
 
@@ -239,6 +282,11 @@ Subcommand add_query_command(CLI::App& app) {
   command->add_flag("--json", options->json, "Print the results as one JSON document");
   command->add_option("--repeat", options->repeat, "Time each query N times after an untimed warm-up call and report the median (default 1)")
       ->check(whole_number_in(1, kMaxRepeat, "repeat count"))
+      ->type_name("N");
+  command->add_option("--threads", options->threads,
+                      "Threads for queries over all pairs (0, the default: all cores); the answers are the same "
+                      "for any count")
+      ->check(whole_number_in(0, kMaxThreads, "thread count"))
       ->type_name("N");
   command->add_flag("--stats", options->stats,
                     "Also report which stages ran per query and which shapes were built per scene");

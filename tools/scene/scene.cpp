@@ -380,7 +380,8 @@ Expectation read_expectation(const json& value, const std::string& path, QueryTy
     if (type == QueryType::contact) allowed.push_back("contact_count");
   }
   std::vector<const char*> known = allowed;
-  for (const char* key : {"distance", "normal", "contact_count", "tolerance", "angle_tolerance"}) known.push_back(key);
+  for (const char* key : {"distance", "normal", "contact_count", "tolerance", "angle_tolerance", "pair_count"})
+    known.push_back(key);
   for (auto it = value.begin(); it != value.end(); ++it) {
     if (std::any_of(known.begin(), known.end(), [&](const char* k) { return it.key() == k; })) continue;
     std::string list;
@@ -409,6 +410,8 @@ Expectation read_expectation(const json& value, const std::string& path, QueryTy
     n /= largest;
     expect.normal = n.normalized();
   }
+  if (optional_member(value, "pair_count"))
+    fail(member(path, "pair_count"), "only a query over all pairs (\"pairs\": \"all\") counts pairs");
   if (const json* v = optional_member(value, "contact_count")) {
     const std::string at = member(path, "contact_count");
     if (type != QueryType::contact) fail(at, type_word + " computes no contacts (use 'contact')");
@@ -457,10 +460,49 @@ void read_ray(const json& value, const std::string& path, const std::vector<std:
     query.max_fraction = non_negative(*v, member(path, "max_fraction"));
 }
 
+// "pairs": "all" (scene-format.md, "All pairs"): no bodies named,
+// "max_distance" >= 0 (default 0), `expect` holds only "pair_count".
+void read_all_pairs(const json& value, const std::string& path, QuerySpec& query) {
+  const std::string at = member(path, "pairs");
+  const json& pairs = require(value, path, "pairs");
+  if (!pairs.is_string() || pairs.get<std::string>() != "all")
+    fail(at, "expected \"all\" (every pair of bodies), got " + pairs.dump());
+  if (is_continuous(query.type))
+    fail(member(path, "type"), std::string("a '") + to_string(query.type) +
+                                   "' query has no all-pairs form (intersect, distance, penetration or contact)");
+  for (const char* key : {"a", "b", "body"})
+    if (optional_member(value, key))
+      fail(member(path, key), "a query over all pairs names no bodies (remove it, or remove \"pairs\")");
+  if (optional_member(value, "contact_distance"))
+    fail(member(path, "contact_distance"), "a query over all pairs takes 'max_distance' (also the contact distance)");
+  check_keys(value, path, {"type", "pairs", "max_distance", "expect"});
+  query.all_pairs = true;
+  if (const json* v = optional_member(value, "max_distance"))
+    query.max_distance = non_negative(*v, member(path, "max_distance"));
+  query.contact_distance = query.max_distance;
+  if (const json* expect = optional_member(value, "expect")) {
+    const std::string where = member(path, "expect");
+    expect_object(*expect, where);
+    check_keys(*expect, where, {"pair_count"});
+    const json& count = require(*expect, where, "pair_count");
+    if (!count.is_number_integer() || count.get<long long>() < 0)
+      fail(member(where, "pair_count"), "expected a whole number >= 0, got " + count.dump());
+    Expectation e;
+    e.pair_count = count.get<long long>();
+    query.expect = e;
+  }
+}
+
 QuerySpec read_query(const json& value, const std::string& path, const std::vector<std::string>& body_names) {
   expect_object(value, path);
   QuerySpec query;
   query.type = read_query_type(require(value, path, "type"), member(path, "type"));
+  if (optional_member(value, "pairs")) {
+    read_all_pairs(value, path, query);
+    return query;
+  }
+  if (optional_member(value, "max_distance"))
+    fail(member(path, "max_distance"), "only a query over all pairs (\"pairs\": \"all\") takes 'max_distance'");
   if (query.type == QueryType::raycast) {
     read_ray(value, path, body_names, query);
   } else {
@@ -744,6 +786,10 @@ BuildShapesResult build_shapes(const Scene& scene, bool all_shapes) {
 
   std::vector<bool> needed(scene.shapes.size(), all_shapes);
   for (const QuerySpec& query : scene.queries) {
+    if (query.all_pairs) {
+      std::fill(needed.begin(), needed.end(), true);  // every body takes part
+      continue;
+    }
     needed[scene.bodies[query.a].shape] = true;
     needed[scene.bodies[query.b].shape] = true;
   }
@@ -834,6 +880,7 @@ BuildShapesResult build_shapes(const Scene& scene, bool all_shapes) {
   for (std::size_t i = 0; i < scene.queries.size(); ++i) {
     const QuerySpec& query = scene.queries[i];
     if (query.type == QueryType::raycast) continue;  // one body: any size answers
+    if (query.all_pairs) continue;                   // such pairs answer invalid_input, reported per pair
     const BodySpec& a = scene.bodies[query.a];
     const BodySpec& b = scene.bodies[query.b];
     if (!collision::pair_in_range(*built.shapes[a.shape], built.poses[query.a], *built.shapes[b.shape],

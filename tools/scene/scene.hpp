@@ -80,12 +80,20 @@ struct Expectation {
   // or on fraction (continuous queries; default: default_fraction_tolerance()).
   std::optional<double> tolerance;
   std::optional<double> angle_tolerance;  // radians, on normal; default: kDefaultAngleTolerance
-  bool empty() const { return !intersecting && !distance && !normal && !contact_count && !hit && !fraction; }
+  std::optional<long long> pair_count;    // all-pairs queries only: how many pairs are answered
+  bool empty() const {
+    return !intersecting && !distance && !normal && !contact_count && !hit && !fraction && !pair_count;
+  }
 };
 
 struct QuerySpec {
-  std::size_t a = 0;  // indices into Scene::bodies (raycast: both are "body")
+  std::size_t a = 0;  // indices into Scene::bodies (raycast: both are "body"; all pairs: unused, 0)
   std::size_t b = 0;
+  // "pairs": "all": every pair of bodies within max_distance (>= 0), through
+  // collision::World's broadphase (intersect, distance, penetration and
+  // contact only; a contact query's contact distance is max_distance).
+  bool all_pairs = false;
+  double max_distance = 0.0;
   QueryType type = QueryType::distance;
   // raycast: the ray origin + t direction, t in [0, max_fraction].
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();

@@ -8,6 +8,8 @@
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/raycast.hpp>
 #include <hedra/collision/time_of_impact.hpp>
+#include <hedra/collision/world.hpp>
+#include <hedra/hull/assert.hpp>
 #include <optional>
 #include <utility>
 
@@ -253,9 +255,126 @@ QueryOutcome run_toi(const collision::Shape& a, const BodySpec& body_a, const co
 
 }  // namespace
 
+namespace {
+
+// One answered pair of World::pairs as an outcome (the fields its single
+// query would fill, iteration counts aside).
+QueryOutcome pair_outcome(const collision::PairResult& r, QueryType type) {
+  QueryOutcome out;
+  out.type = type;
+  out.body_a = r.a;
+  out.body_b = r.b;
+  out.status = collision::to_string(r.status);
+  out.intersecting = r.intersecting;
+  out.error_bound = std::isfinite(r.error_bound) ? r.error_bound : 0.0;
+  const bool defined = r.status != collision::Status::degenerate && r.status != collision::Status::invalid_input;
+  switch (type) {
+    case QueryType::intersect:
+      break;
+    case QueryType::distance:
+      set_geometry(out, r.distance, r.normal, r.point_a, r.point_b,
+                   r.status == collision::Status::ok && !r.intersecting);
+      break;
+    case QueryType::contact:
+      out.manifold_ran = true;
+      for (int i = 0; defined && i < r.count; ++i) {
+        const collision::ContactPoint& c = r.points[static_cast<std::size_t>(i)];
+        if (!finite(c.point) || !std::isfinite(c.depth)) {
+          if (out.ok()) out.status = "non_finite";
+          continue;
+        }
+        out.contacts.push_back({unsigned_zero(c.point), unsigned_zero(c.depth)});
+      }
+      [[fallthrough]];
+    default:
+      if (defined) set_geometry(out, r.distance, r.normal, r.point_a, r.point_b, true);
+      break;
+  }
+  return out;
+}
+
+collision::PairQuery pair_query(QueryType type) {
+  switch (type) {
+    case QueryType::intersect:
+      return collision::PairQuery::intersect;
+    case QueryType::distance:
+      return collision::PairQuery::distance;
+    case QueryType::contact:
+      return collision::PairQuery::contact;
+    default:
+      return collision::PairQuery::penetration;
+  }
+}
+
+QueryOutcome run_single(const BuiltScene& built, const QuerySpec& query, const collision::Shape& a,
+                        const collision::Pose& pa, const collision::Shape& b, const collision::Pose& pb, int repeat);
+
+}  // namespace
+
+AllPairsOutcome run_all_pairs(const BuiltScene& built, std::size_t index, int repeat, int threads) {
+  const Scene& scene = *built.scene;
+  const QuerySpec& query = scene.queries[index];
+  collision::PairSettings settings;
+  settings.query = pair_query(query.type);
+  settings.max_distance = query.max_distance;
+  settings.parallel.threads = threads;
+  AllPairsOutcome result;
+  result.bodies = scene.bodies.size();
+  struct Answer {
+    std::vector<collision::PairResult> pairs;
+    std::size_t candidates = 0;
+  };
+  // Each call starts from a new World: adding the bodies and building the
+  // tree are part of the query's time.
+  const Answer answer = timed(repeat, result.time_ns, [&] {
+    Answer a;
+    collision::World world;
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+      // build_shapes() built every body's shape for an all-pairs query, and
+      // the reader validated every pose.
+      const std::uint32_t body = world.add(*built.shapes[scene.bodies[i].shape], built.poses[i]);
+      (void)body;
+      HEDRA_ASSERT(body == i);
+    }
+    world.pairs(settings, a.pairs);
+    a.candidates = world.stats().candidates;
+    return a;
+  });
+  result.candidates = answer.candidates;
+  const std::vector<collision::PairResult>& pairs = answer.pairs;
+  result.pairs.reserve(pairs.size());
+  for (const collision::PairResult& r : pairs) {
+    result.pairs.push_back(pair_outcome(r, query.type));
+    result.pairs.back().time_ns = result.time_ns;
+  }
+  return result;
+}
+
+void expand_all_pairs(Scene& scene, BuiltScene& built, int threads) {
+  HEDRA_ASSERT(built.scene == &scene);
+  std::vector<QuerySpec> queries;
+  for (std::size_t i = 0; i < scene.queries.size(); ++i) {
+    const QuerySpec& query = scene.queries[i];
+    if (!query.all_pairs) {
+      queries.push_back(query);
+      continue;
+    }
+    for (const QueryOutcome& pair : run_all_pairs(built, i, 1, threads).pairs) {
+      QuerySpec single;
+      single.type = query.type;
+      single.a = pair.body_a;
+      single.b = pair.body_b;
+      single.contact_distance = query.max_distance;
+      queries.push_back(single);
+    }
+  }
+  scene.queries = std::move(queries);
+}
+
 QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat) {
   const Scene& scene = *built.scene;
   const QuerySpec& query = scene.queries[index];
+  HEDRA_ASSERT(!query.all_pairs);  // run_all_pairs answers those
   const std::size_t shape_a = scene.bodies[query.a].shape;
   const std::size_t shape_b = scene.bodies[query.b].shape;
   // build_shapes() built every shape a query uses.
@@ -263,6 +382,17 @@ QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat) {
   const collision::Shape& b = *built.shapes[shape_b];
   const collision::Pose& pa = built.poses[query.a];
   const collision::Pose& pb = built.poses[query.b];
+  QueryOutcome out = run_single(built, query, a, pa, b, pb, repeat);
+  out.body_a = query.a;
+  out.body_b = query.b;
+  return out;
+}
+
+namespace {
+
+QueryOutcome run_single(const BuiltScene& built, const QuerySpec& query, const collision::Shape& a,
+                        const collision::Pose& pa, const collision::Shape& b, const collision::Pose& pb, int repeat) {
+  const Scene& scene = *built.scene;
   switch (query.type) {
     case QueryType::intersect:
       return run_intersect(a, pa, b, pb, repeat);
@@ -281,6 +411,8 @@ QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat) {
   }
   return run_contact(a, pa, b, pb, query, repeat);
 }
+
+}  // namespace
 
 std::optional<LoadedScene> prepare_scene(const std::string& path, std::string& error) {
   LoadSceneResult loaded = load_scene(path);

@@ -43,6 +43,7 @@ struct ContactPoint {
 
 struct QueryOutcome {
   QueryType type = QueryType::distance;
+  std::size_t body_a = 0, body_b = 0;  // indices into Scene::bodies (raycast: both the body)
   std::string status = "ok";  // collision::to_string(Status), or "non_finite"
   bool intersecting = false;
   std::optional<double> distance;          // signed for penetration and contact
@@ -75,6 +76,29 @@ struct QueryOutcome {
 // Runs query `index` of the built scene `repeat` (>= 1) times, each time
 // from a cold start (no cache), and keeps the last answer and the median time.
 QueryOutcome run_query(const BuiltScene& built, std::size_t index, int repeat = 1);
+
+// A query over all pairs ("pairs": "all"): collision::World over every body
+// of the scene (body i = Scene::bodies[i], numbered in byte order of the
+// names), then World::pairs with the query's type and max_distance on
+// `threads` threads (0: all cores). One outcome per answered pair, sorted by
+// (body_a, body_b), body_a < body_b. Each outcome's time_ns is the time of
+// the whole query (adding the bodies, building the tree, the broadphase and
+// every pair's query, each call from a new World), taken like every query's
+// (timing.hpp, warm_median). Iteration counts are not reported (0).
+struct AllPairsOutcome {
+  std::vector<QueryOutcome> pairs;
+  std::size_t bodies = 0;
+  std::size_t candidates = 0;  // pairs whose grown boxes overlap
+  double time_ns = 0.0;
+};
+AllPairsOutcome run_all_pairs(const BuiltScene& built, std::size_t index, int repeat = 1, int threads = 0);
+
+// Replaces every all-pairs query of `scene` by one ordinary query per pair
+// run_all_pairs answers (same type; a contact query's contact_distance is
+// the max_distance), in place and in order, so that the commands that judge
+// or draw pairs one at a time (compare, view, bench) see them. `built` must
+// be build_shapes(scene)'s (built.scene == &scene).
+void expand_all_pairs(Scene& scene, BuiltScene& built, int threads = 0);
 
 // A scene read, checked runnable and built: what every scene command starts
 // from. The Scene lives on the heap so that `built.scene` stays valid when

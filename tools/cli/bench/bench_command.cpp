@@ -109,6 +109,7 @@ std::string default_python() {
 std::optional<bench::FamilyRun> scene_family(const std::string& path, std::string& error) {
   std::optional<LoadedScene> loaded = prepare_scene(path, error);
   if (!loaded) return std::nullopt;
+  expand_all_pairs(*loaded->scene, loaded->built);  // all pairs: each answered pair is a case
   bench::FamilyRun run;
   const Scene& scene = *loaded->scene;
   run.name = "scene:" + (scene.name.empty() ? fs::path(path).stem().string() : scene.name);

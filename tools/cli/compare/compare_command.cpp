@@ -33,6 +33,8 @@ int run_compare(const CompareCommandOptions& options, std::string& out, std::ost
     err << error << "\n";
     return kExitBadInput;
   }
+  // Queries over all pairs: each answered pair is judged like a query of its own.
+  expand_all_pairs(*loaded->scene, loaded->built);
   CompareOptions compare;
   compare.repeat = options.repeat;
   compare.peer_timeout_seconds = options.peer_timeout;

@@ -110,12 +110,13 @@ std::optional<ViewModel> build_scene_view_model(const std::string& scene_path, s
     error = loaded.error;
     return std::nullopt;
   }
-  const Scene& scene = *loaded.scene;
-  const BuildShapesResult built = build_shapes(scene, /*all_shapes=*/true);
+  Scene scene = *loaded.scene;
+  BuildShapesResult built = build_shapes(scene, /*all_shapes=*/true);
   if (!built.ok()) {
     error = built.error;
     return std::nullopt;
   }
+  expand_all_pairs(scene, *built.built);  // all pairs: each answered pair is drawn like a query
   ViewModel model;
   model.title = scene.name;
   model.description = scene.description;

@@ -104,6 +104,14 @@ IntersectResult intersect(const Shape& a, const Pose& pose_a, const Shape& b, co
 DistanceResult distance(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                         GjkCache* cache = nullptr, const GjkSettings& settings = {});
 
+// Whether GJK certifies dist(A, B) > gap (gap >= 0): a separating axis with
+// room to spare, found by the boolean GJK of intersect() with the margin
+// grown by gap (it stops at the first such axis). false: within gap,
+// undecided (the cap) or invalid input. What a broadphase runs before the
+// full query on a candidate pair that is mostly apart (World::pairs).
+bool separated_beyond(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, double gap,
+                      const GjkSettings& settings = {});
+
 // ---- penetration: EPA --------------------------------------------------------
 
 struct PenetrationSettings {

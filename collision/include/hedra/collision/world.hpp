@@ -30,14 +30,20 @@
 //
 // BVH: median split on the longest axis of the box centres (ties by body
 // index: the tree depends on the boxes only), up to kLeafSize bodies a
-// leaf, nodes in depth-first order (a parent before its children), each
-// node keeping the largest body index below it. pairs() queries each body's
-// grown box against the tree, pruning subtrees whose bodies all have smaller
-// indices (each pair is visited from its smaller index), in parallel_for's
-// fixed chunks of bodies: a chunk sorts its bodies' candidates by (a, b),
-// runs their queries and keeps its results; the chunks' results are then
-// concatenated in chunk order. The output is sorted by (a, b) and the same
-// for any thread count.
+// leaf, nodes in depth-first order (a parent before its children), the
+// bodies in leaf order (spatially coherent), each node keeping the last leaf
+// position below it. pairs() runs in three steps:
+//   1. candidates: in parallel_for's fixed chunks of leaf positions, each
+//      body's grown box against the tree, pruning subtrees that lie wholly
+//      before it in leaf order (each pair is visited once, from its earlier
+//      body), keys (a << 32 | b, a < b) per chunk;
+//   2. the keys of all chunks sorted (LSD radix sort): the order (a, b);
+//   3. the queries, in fixed chunks of the sorted candidates: a pair that
+//      GJK's boolean test certifies apart by more than the reach
+//      (separated_beyond) is dropped without the full query; the others run
+//      it and are kept by the rule above; the chunks' results are
+//      concatenated in chunk order.
+// Every step's output depends on the boxes only, never on the thread count.
 //
 // Moving bodies: set_pose / set_poses mark boxes stale; pairs() recomputes
 // them and refits the tree (reverse depth-first order: children before
@@ -89,6 +95,9 @@ struct PairSettings {
   PenetrationSettings penetration;
   GjkSettings gjk;
   TreeUpdate tree_update = TreeUpdate::automatic;
+  // The broadphase alone: every pair whose grown boxes (grown by max_distance) overlap and that passes the
+  // filter, with a and b only (no query runs; every other field at its default).
+  bool broadphase_only = false;
 };
 
 // What the last pairs() did (for benchmarks and tuning).
@@ -99,6 +108,8 @@ struct WorldStats {
   double tree_cost_ratio = 1.0;  // the tree's cost over its cost at the last build
   double update_seconds = 0.0;   // boxes + refit or rebuild
   double query_seconds = 0.0;    // traversal + queries + merge
+  double broadphase_seconds = 0.0;  // of which traversal and sort (steps 1 and 2)
+  double serial_seconds = 0.0;      // on the calling thread alone: refit or build, sort, merge
   std::size_t memory_bytes = 0;  // the world's own arrays (capacity), shapes' hulls excluded
 };
 
@@ -137,14 +148,13 @@ class World {
  private:
   struct Node {
     double lo[3], hi[3];
-    std::uint32_t first = 0;     // leaf: first position in order_; internal: the right child (left = this + 1)
-    std::uint32_t count = 0;     // leaf: bodies (>= 1); internal: 0
-    std::uint32_t max_body = 0;  // the largest body index in the subtree
+    std::uint32_t first = 0;  // leaf: first position in order_; internal: the right child (left = this + 1)
+    std::uint32_t count = 0;  // leaf: bodies (>= 1); internal: 0
+    std::uint32_t last = 0;   // the last leaf position in the subtree
   };
   struct ChunkScratch {
     std::vector<PairResult> results;
-    std::vector<std::uint32_t> candidates;
-    std::size_t candidate_count = 0;
+    std::vector<std::uint64_t> keys;
   };
 
   void update_boxes(const ParallelSettings& parallel);
@@ -153,7 +163,10 @@ class World {
   std::uint32_t build_node(std::uint32_t begin, std::uint32_t end);
   double refit_tree();
   bool ignored(std::uint32_t a, std::uint32_t b) const;
-  void query_bodies(std::size_t begin, std::size_t end, const PairSettings& settings, ChunkScratch& scratch) const;
+  void find_candidates(std::size_t begin, std::size_t end, double max_distance, std::vector<std::uint64_t>& keys) const;
+  void gather_candidates();
+  void query_candidates(std::size_t begin, std::size_t end, const PairSettings& settings,
+                        std::vector<PairResult>& results) const;
 
   std::vector<Shape> shapes_;
   std::vector<Pose> poses_;
@@ -172,6 +185,7 @@ class World {
   double built_cost_ = 0.0;
   bool tree_moved_ = false;  // boxes changed since the tree was last fitted
   std::vector<ChunkScratch> chunks_;
+  std::vector<std::uint64_t> candidates_, sort_scratch_;  // sorted candidate keys; radix sort buffer
   WorldStats stats_;
 };
 

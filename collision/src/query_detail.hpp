@@ -1,0 +1,17 @@
+// Entry points of query.cpp for callers inside the library that have
+// validated their inputs already (World: shapes at add(), poses at add() and
+// set_pose(), the pair's extent from the bodies' radii), so that a hot loop
+// does not check every shape again on every pair.
+#pragma once
+
+#include <hedra/collision/query.hpp>
+
+namespace hedra::collision::detail {
+
+// separated_beyond() without its input checks. Requires is_valid(a),
+// is_valid(b), pose_a.valid(), pose_b.valid(), pair_in_range(a, pose_a, b,
+// pose_b) and gap >= 0 (asserted in debug builds).
+bool separated_beyond_unchecked(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, double gap,
+                                const GjkSettings& settings);
+
+}  // namespace hedra::collision::detail
