@@ -153,6 +153,7 @@ void edge_axes(const Pair& p, double parallel_tolerance, Axes& out) {
   const Eigen::Matrix3d& r = p.rel.rotation;
   const Vec& t = p.rel.translation;
   int best_i = -1, best_j = -1;
+  bool flip = false;
   for (int i = 0; i < 3; ++i) {
     const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
     for (int j = 0; j < 3; ++j) {
@@ -165,19 +166,19 @@ void edge_axes(const Pair& p, double parallel_tolerance, Axes& out) {
       const double s = (std::abs(nt) - radius_a - radius_b) / std::sqrt(len2);
       ++out.edge_pairs;
       if (s > out.edge.separation) {
-        Vec n = Vec::Unit(i).cross(r.col(j)).normalized();
-        if (nt < 0.0) n = -n;
         out.edge.separation = s;
-        out.edge.normal = n;
         best_i = i;
         best_j = j;
+        flip = nt < 0.0;
       }
     }
   }
   if (best_i < 0) return;
   const BoxTopology& topo = topology();
   out.edge.kind = SatAxisKind::edge;
-  const Vec& n = out.edge.normal;
+  Vec n = Vec::Unit(best_i).cross(r.col(best_j)).normalized();
+  if (flip) n = -n;
+  out.edge.normal = n;
   const Index va = support(n) & ~(1u << best_i);
   const Index vb = support(-(r.transpose() * n)) & ~(1u << best_j);
   out.edge.feature_a = topo.edge_between[8 * va + (va | (1u << best_i))];
@@ -209,64 +210,74 @@ struct Candidate {
   FeatureId id;
 };
 
-// A polygon of at most 4 + 4 points (a quadrilateral clipped by 4 planes).
+// A polygon of at most 4 + 4 points (a quadrilateral clipped by 4 planes),
+// each point with where it comes from: `origin` 0..3 the incident corner k
+// as is, 8 + L a crossing on the segment labelled L; `next` the label of the
+// segment leaving it (0..3 incident edge k, from corner k to k + 1; 4 + j
+// the side plane j). Labels name the clipped points as manifold.cpp's
+// geometric tests do (a crossing on incident edge k is that edge's), without
+// the searches.
 constexpr int kMaxPolygon = 8;
 struct Polygon {
   std::array<Vec, kMaxPolygon> p;
+  std::array<int, kMaxPolygon> origin, next;
   int count = 0;
 };
 
-// hull::clip_polygon for a unit plane (the same classification and
-// crossings): keeps the part with n . x - d <= tol. False on a non-finite
-// crossing (the general path then answers).
-bool clip(const Polygon& in, const Vec& n, double d, double tol, Polygon& out) {
+// hull::clip_polygon for the unit plane n . x = d, label 4 + j (the same
+// classification and crossings): keeps the part with n . x - d <= tol.
+// False on a non-finite crossing (the general path then answers).
+bool clip(const Polygon& in, const Vec& n, double d, int label, double tol, Polygon& out) {
   out.count = 0;
   const auto side = [&](double s) { return s > tol ? 1 : (s < -tol ? -1 : 0); };
   const auto crossing = [](const Vec& b, double db, const Vec& f, double df) {
     const double t = db / (db - df);
     return Vec(b + t * (f - b));
   };
-  const auto emit = [&](const Vec& x) {
+  const auto emit = [&](const Vec& x, int origin, int next) {
     if (!x.allFinite() || out.count == kMaxPolygon) return false;
-    out.p[out.count++] = x;
+    out.p[out.count] = x;
+    out.origin[out.count] = origin;
+    out.next[out.count++] = next;
     return true;
   };
   if (in.count == 0) return true;
   if (in.count <= 2) {
     const double d0 = n.dot(in.p[0]) - d;
     const int s0 = side(d0);
-    if (in.count == 1) return s0 == 1 || emit(in.p[0]);
+    if (in.count == 1) return s0 == 1 || emit(in.p[0], in.origin[0], in.next[0]);
     const double d1 = n.dot(in.p[1]) - d;
     const int s1 = side(d1);
-    if (s0 != 1 && !emit(in.p[0])) return false;
-    if (s0 == -1 && s1 == 1 && !emit(crossing(in.p[0], d0, in.p[1], d1))) return false;
-    if (s0 == 1 && s1 == -1 && !emit(crossing(in.p[1], d1, in.p[0], d0))) return false;
-    return s1 == 1 || emit(in.p[1]);
+    const int on = 8 + in.next[0];
+    if (s0 != 1 && !emit(in.p[0], in.origin[0], in.next[0])) return false;
+    if (s0 == -1 && s1 == 1 && !emit(crossing(in.p[0], d0, in.p[1], d1), on, in.next[0])) return false;
+    if (s0 == 1 && s1 == -1 && !emit(crossing(in.p[1], d1, in.p[0], d0), on, in.next[0])) return false;
+    return s1 == 1 || emit(in.p[1], in.origin[1], in.next[1]);
   }
   double d_cur = n.dot(in.p[0]) - d;
   for (int i = 0; i < in.count; ++i) {
     const int j = i + 1 == in.count ? 0 : i + 1;
     const double d_next = n.dot(in.p[j]) - d;
     const int s_cur = side(d_cur), s_next = side(d_next);
-    if (s_cur != 1 && !emit(in.p[i])) return false;
+    const int on = 8 + in.next[i];
+    if (s_cur != 1 && !emit(in.p[i], in.origin[i], s_cur == 0 && s_next == 1 ? label : in.next[i])) return false;
     if (s_cur == -1 && s_next == 1) {
-      if (!emit(crossing(in.p[i], d_cur, in.p[j], d_next))) return false;
+      if (!emit(crossing(in.p[i], d_cur, in.p[j], d_next), on, label)) return false;
     } else if (s_cur == 1 && s_next == -1) {
-      if (!emit(crossing(in.p[j], d_next, in.p[i], d_cur))) return false;
+      if (!emit(crossing(in.p[j], d_next, in.p[i], d_cur), on, in.next[i])) return false;
     }
     d_cur = d_next;
   }
   return true;
 }
 
-// The first candidate within `tie` of the largest value (manifold.cpp's
+// The first of `count` values within `tie` of the largest (manifold.cpp's
 // first_near_largest).
-template <class Value>
-int first_near_largest(int count, double tie, Value value) {
+int first_near_largest(const double* value, int count, double tie) {
   double best = -std::numeric_limits<double>::infinity();
-  for (int i = 0; i < count; ++i) best = std::max(best, value(i));
+  for (int i = 0; i < count; ++i) best = std::max(best, value[i]);
   for (int i = 0; i < count; ++i)
-    if (value(i) >= best - tie) return i;
+    if (value[i] >= best - tie) return i;
   return 0;
 }
 
@@ -275,22 +286,29 @@ int first_near_largest(int count, double tie, Value value) {
 int reduce(const Candidate* c, int count, const Vec& n, double depth_tie, double length_tie,
            std::array<int, kMaxContactPoints>& keep) {
   if (count == 0) return 0;
-  const int i0 = first_near_largest(count, depth_tie, [&](int i) { return -c[i].separation; });
+  std::array<double, kMaxPolygon> value;
+  for (int i = 0; i < count; ++i) value[i] = -c[i].separation;
+  const int i0 = first_near_largest(value.data(), count, depth_tie);
   keep[0] = i0;
   if (count == 1) return 1;
   const Vec p0 = c[i0].on_b;
-  const int i1 = first_near_largest(count, length_tie, [&](int i) { return (c[i].on_b - p0).norm(); });
+  for (int i = 0; i < count; ++i) value[i] = (c[i].on_b - p0).norm();
+  const int i1 = first_near_largest(value.data(), count, length_tie);
   const double far = (c[i1].on_b - p0).squaredNorm();
   if (!(far > 0.0)) return 1;
   keep[1] = i1;
   const Vec p1 = c[i1].on_b;
-  const auto area = [&](int i) { return (p0 - c[i].on_b).cross(p1 - c[i].on_b).dot(n); };
+  std::array<double, kMaxPolygon> area, negated;
+  for (int i = 0; i < count; ++i) {
+    area[i] = (p0 - c[i].on_b).cross(p1 - c[i].on_b).dot(n);
+    negated[i] = -area[i];
+  }
   const double min_area = 1e-9 * far, area_tie = length_tie * std::sqrt(far);
-  const int i2 = first_near_largest(count, area_tie, area);
-  const int i3 = first_near_largest(count, area_tie, [&](int i) { return -area(i); });
+  const int i2 = first_near_largest(area.data(), count, area_tie);
+  const int i3 = first_near_largest(negated.data(), count, area_tie);
   int kept = 2;
-  if (area(i2) > min_area) keep[kept++] = i2;
-  if (-area(i3) > min_area) keep[kept++] = i3;
+  if (area[i2] > min_area) keep[kept++] = i2;
+  if (negated[i3] > min_area) keep[kept++] = i3;
   return kept;
 }
 
@@ -307,8 +325,9 @@ class FaceClipper {
 
  private:
   void incident_face();
-  FeatureId id_of(const Vec& p, const Vec& on_ref) const;
-  int hold_last(const Candidate* c, int count, std::array<int, kMaxContactPoints>& keep, int kept) const;
+  FeatureId id_of(int i, const Vec& on_ref) const;  // of clipped point i
+  int hold_last(const Candidate* c, const int* from, int count, std::array<int, kMaxContactPoints>& keep,
+                int kept) const;
 
   const Pair& pair_;
   const Side& ref_;
@@ -317,9 +336,11 @@ class FaceClipper {
   bool ref_is_a_;
   Vec n_;  // A's frame, out of the reference face
   Index inc_face_ = 0;
-  std::array<Vec, 4> incident_;      // the incident face's corners (A's frame)
-  std::array<Vec, 4> side_normal_;   // side planes of the reference face's edges
+  std::array<Vec, 4> incident_;  // the incident face's corners (A's frame)
+  std::array<Vec, 4> ref_corner_;
+  std::array<Vec, 4> side_normal_;  // side planes of the reference face's edges
   std::array<double, 4> side_offset_;
+  const Polygon* clipped_ = nullptr;
 };
 
 void FaceClipper::incident_face() {
@@ -340,49 +361,59 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
   const BoxTopology& topo = topology();
   n_ = ref_.direction(topo.normal[ref_face_]);
   const std::array<Index, 4>& rv = topo.face_vertex[ref_face_];
-  std::array<Vec, 4> ref_corner;
-  for (int k = 0; k < 4; ++k) ref_corner[k] = ref_.point(rv[k]);
-  const double offset = n_.dot(ref_corner[0]);
+  for (int k = 0; k < 4; ++k) ref_corner_[k] = ref_.point(rv[k]);
+  const double offset = n_.dot(ref_corner_[0]);
   incident_face();
   Polygon a, b;
-  for (int k = 0; k < 4; ++k) a.p[k] = incident_[k] = inc_.point(topo.face_vertex[inc_face_][k]);
+  for (int k = 0; k < 4; ++k) {
+    a.p[k] = incident_[k] = inc_.point(topo.face_vertex[inc_face_][k]);
+    a.origin[k] = a.next[k] = k;
+  }
   a.count = 4;
   for (int k = 0; k < 4; ++k) {
-    const Vec side = (ref_corner[(k + 1) & 3] - ref_corner[k]).cross(n_).normalized();
+    const Vec side = (ref_corner_[(k + 1) & 3] - ref_corner_[k]).cross(n_).normalized();
     side_normal_[k] = side;
-    side_offset_[k] = side.dot(ref_corner[k]);
+    side_offset_[k] = side.dot(ref_corner_[k]);
   }
   Polygon* src = &a;
   Polygon* dst = &b;
   for (int k = 0; k < 4 && src->count > 0; ++k) {
-    if (!clip(*src, side_normal_[k], side_offset_[k], pair_.tolerance, *dst)) return false;
+    if (!clip(*src, side_normal_[k], side_offset_[k], 4 + k, pair_.tolerance, *dst)) return false;
     std::swap(src, dst);
   }
+  clipped_ = src;
   clipped = src->count;
   std::array<Candidate, kMaxPolygon> below;
+  std::array<int, kMaxPolygon> from;  // the clipped point each candidate is
   int count = 0;
   for (int i = 0; i < src->count; ++i) {
     const double s = n_.dot(src->p[i]) - offset;
-    if (s <= max_separation) below[count++] = Candidate{src->p[i], src->p[i], s, FeatureId{}};
+    if (s <= max_separation) {
+      from[count] = i;
+      below[count++] = Candidate{src->p[i], src->p[i], s, FeatureId{}};
+    }
   }
   std::array<int, kMaxContactPoints> keep{};
   int kept = reduce(below.data(), count, n_, pair_.band, pair_.tolerance, keep);
-  if (pair_.last && count > kMaxContactPoints) kept = hold_last(below.data(), count, keep, kept);
+  if (pair_.last && count > kMaxContactPoints) kept = hold_last(below.data(), from.data(), count, keep, kept);
   out_count = 0;
   for (int i = 0; i < kept; ++i) {
     const Vec p = below[keep[i]].on_b;
     const double s = below[keep[i]].separation;
     const Vec on_ref = p - s * n_;
-    const FeatureId id = id_of(p, on_ref);
+    const FeatureId id = id_of(from[keep[i]], on_ref);
     out[out_count++] = ref_is_a_ ? Candidate{on_ref, p, s, id} : Candidate{p, on_ref, s, id};
   }
   return true;
 }
 
 // manifold.cpp's feature ids: an incident corner kept as is, else a
-// crossing of an incident edge with a side plane, else a reference corner.
-FeatureId FaceClipper::id_of(const Vec& p, const Vec& on_ref) const {
+// crossing of an incident edge with a side plane (the nearest side plane),
+// else a reference corner. A crossing on incident edge k is named by k
+// without measuring its distance to every incident edge.
+FeatureId FaceClipper::id_of(int i, const Vec& on_ref) const {
   const BoxTopology& topo = topology();
+  const Vec& p = clipped_->p[i];
   FeatureId id;
   id.reference_on_b = !ref_is_a_;
   id.reference = ref_face_;
@@ -400,19 +431,25 @@ FeatureId FaceClipper::id_of(const Vec& p, const Vec& on_ref) const {
       id.clip = topo.face_edge[ref_face_][k];
     }
   }
-  double best_edge = std::numeric_limits<double>::infinity();
+  const int origin = clipped_->origin[i];
   Index edge = hull::kInvalidIndex;
-  for (int k = 0; k < 4; ++k) {
-    const Vec& a = incident_[k];
-    const Vec ab = incident_[(k + 1) & 3] - a;
-    const double t = std::clamp(ab.dot(p - a) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
-    const double d = (a + t * ab - p).norm();
-    if (d < best_edge) {
-      best_edge = d;
-      edge = topo.face_edge[inc_face_][k];
+  if (origin >= 8 && origin < 12) {
+    edge = topo.face_edge[inc_face_][origin - 8];
+  } else {  // a crossing on a side plane (or a corner moved by rounding): measure
+    double best_edge = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 4; ++k) {
+      const Vec& a = incident_[k];
+      const Vec ab = incident_[(k + 1) & 3] - a;
+      const double t = std::clamp(ab.dot(p - a) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+      const double d = (a + t * ab - p).norm();
+      if (d < best_edge) {
+        best_edge = d;
+        edge = topo.face_edge[inc_face_][k];
+      }
     }
+    if (!(best_edge <= pair_.tolerance)) edge = hull::kInvalidIndex;
   }
-  if (best_edge <= pair_.tolerance) {
+  if (edge != hull::kInvalidIndex) {
     id.kind = FeatureKind::face_clip;
     id.incident = std::min(edge, topo.twin[edge]);
     return id;
@@ -422,7 +459,7 @@ FeatureId FaceClipper::id_of(const Vec& p, const Vec& on_ref) const {
   id.kind = FeatureKind::face_corner;
   double best = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 4; ++k) {
-    const double d = (ref_.point(topo.face_vertex[ref_face_][k]) - on_ref).squaredNorm();
+    const double d = (ref_corner_[k] - on_ref).squaredNorm();
     if (d < best) {
       best = d;
       id.clip = topo.face_edge[ref_face_][k];
@@ -434,7 +471,8 @@ FeatureId FaceClipper::id_of(const Vec& p, const Vec& on_ref) const {
 
 // manifold.cpp's hold_last: the last frame's four points while all are
 // still candidates and their deepest is within the hold of the deepest.
-int FaceClipper::hold_last(const Candidate* c, int count, std::array<int, kMaxContactPoints>& keep, int kept) const {
+int FaceClipper::hold_last(const Candidate* c, const int* from, int count, std::array<int, kMaxContactPoints>& keep,
+                           int kept) const {
   const ContactCache& last = *pair_.last;
   if (last.kept_count != kept) return kept;
   std::array<int, kMaxContactPoints> held{};
@@ -442,14 +480,14 @@ int FaceClipper::hold_last(const Candidate* c, int count, std::array<int, kMaxCo
   double deepest = std::numeric_limits<double>::infinity(), deepest_held = deepest;
   for (int i = 0; i < count; ++i) {
     deepest = std::min(deepest, c[i].separation);
-    const FeatureId id = id_of(c[i].on_b, Vec(c[i].on_b - c[i].separation * n_));
+    const FeatureId id = id_of(from[i], Vec(c[i].on_b - c[i].separation * n_));
     for (int k = 0; k < last.kept_count; ++k)
       if (last.kept[k] == id && found < kMaxContactPoints) {
         held[found++] = i;
         deepest_held = std::min(deepest_held, c[i].separation);
       }
   }
-  if (found != kept || !(deepest_held <= pair_.hold + deepest)) return kept;
+  if (found != kept || !(deepest_held <= deepest + pair_.hold)) return kept;
   int same = 0;
   for (int k = 0; k < kept; ++k) same += std::count(keep.begin(), keep.begin() + kept, held[k]) > 0;
   if (same < kept) keep = held;
