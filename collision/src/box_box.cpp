@@ -317,8 +317,12 @@ int reduce(const Candidate* c, int count, const Vec& n, double depth_tie, double
 // face normal). Candidates (at most four, ids set) go to `out`.
 class FaceClipper {
  public:
-  FaceClipper(const Pair& pair, const Side& ref, const Side& inc, Index ref_face, bool ref_is_a)
-      : pair_(pair), ref_(ref), inc_(inc), ref_face_(ref_face), ref_is_a_(ref_is_a) {}
+  // `along` (A's frame, out of the reference, unit; null: the face's normal)
+  // is the direction the points are measured along: the side planes are
+  // swept along it and each separation is the gap along it.
+  FaceClipper(const Pair& pair, const Side& ref, const Side& inc, Index ref_face, bool ref_is_a,
+              const Vec* along = nullptr)
+      : pair_(pair), ref_(ref), inc_(inc), ref_face_(ref_face), ref_is_a_(ref_is_a), along_(along) {}
 
   // False when the general path must answer (a non-finite crossing).
   bool run(double max_separation, Candidate* out, int& out_count, int& clipped);
@@ -334,7 +338,9 @@ class FaceClipper {
   const Side& inc_;
   Index ref_face_;
   bool ref_is_a_;
+  const Vec* along_;
   Vec n_;  // A's frame, out of the reference face
+  Vec u_;  // the sweep: along_ or n_
   Index inc_face_ = 0;
   std::array<Vec, 4> incident_;  // the incident face's corners (A's frame)
   std::array<Vec, 4> ref_corner_;
@@ -345,7 +351,7 @@ class FaceClipper {
 
 void FaceClipper::incident_face() {
   const BoxTopology& topo = topology();
-  const Vec m = inc_.local_direction(n_);
+  const Vec m = inc_.local_direction(u_);
   const Index v = support(-m);
   double best = std::numeric_limits<double>::infinity();
   for (const Index g : topo.vertex_face[v]) {
@@ -360,6 +366,8 @@ void FaceClipper::incident_face() {
 bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int& clipped) {
   const BoxTopology& topo = topology();
   n_ = ref_.direction(topo.normal[ref_face_]);
+  u_ = along_ ? *along_ : n_;
+  const double slope = along_ ? n_.dot(u_) : 1.0;  // within the face angle tolerance of 1
   const std::array<Index, 4>& rv = topo.face_vertex[ref_face_];
   for (int k = 0; k < 4; ++k) ref_corner_[k] = ref_.point(rv[k]);
   const double offset = n_.dot(ref_corner_[0]);
@@ -371,7 +379,7 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
   }
   a.count = 4;
   for (int k = 0; k < 4; ++k) {
-    const Vec side = (ref_corner_[(k + 1) & 3] - ref_corner_[k]).cross(n_).normalized();
+    const Vec side = (ref_corner_[(k + 1) & 3] - ref_corner_[k]).cross(u_).normalized();
     side_normal_[k] = side;
     side_offset_[k] = side.dot(ref_corner_[k]);
   }
@@ -387,20 +395,20 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
   std::array<int, kMaxPolygon> from;  // the clipped point each candidate is
   int count = 0;
   for (int i = 0; i < src->count; ++i) {
-    const double s = n_.dot(src->p[i]) - offset;
+    const double s = (n_.dot(src->p[i]) - offset) / slope;
     if (s <= max_separation) {
       from[count] = i;
       below[count++] = Candidate{src->p[i], src->p[i], s, FeatureId{}};
     }
   }
   std::array<int, kMaxContactPoints> keep{};
-  int kept = reduce(below.data(), count, n_, pair_.band, pair_.tolerance, keep);
+  int kept = reduce(below.data(), count, u_, pair_.band, pair_.tolerance, keep);
   if (pair_.last && count > kMaxContactPoints) kept = hold_last(below.data(), from.data(), count, keep, kept);
   out_count = 0;
   for (int i = 0; i < kept; ++i) {
     const Vec p = below[keep[i]].on_b;
     const double s = below[keep[i]].separation;
-    const Vec on_ref = p - s * n_;
+    const Vec on_ref = p - s * u_;
     const FeatureId id = id_of(from[keep[i]], on_ref);
     out[out_count++] = ref_is_a_ ? Candidate{on_ref, p, s, id} : Candidate{p, on_ref, s, id};
   }
@@ -480,7 +488,7 @@ int FaceClipper::hold_last(const Candidate* c, const int* from, int count, std::
   double deepest = std::numeric_limits<double>::infinity(), deepest_held = deepest;
   for (int i = 0; i < count; ++i) {
     deepest = std::min(deepest, c[i].separation);
-    const FeatureId id = id_of(from[i], Vec(c[i].on_b - c[i].separation * n_));
+    const FeatureId id = id_of(from[i], Vec(c[i].on_b - c[i].separation * u_));
     for (int k = 0; k < last.kept_count; ++k)
       if (last.kept[k] == id && found < kMaxContactPoints) {
         held[found++] = i;
@@ -524,22 +532,60 @@ void closest_on_segments(const Vec& p0, const Vec& u, const Vec& q0, const Vec& 
 
 // ---- the manifold -------------------------------------------------------------
 
-// The answer in A's frame (world placement last, shared with the cache).
+// The answer in A's frame (world placement last, shared with the cache);
+// `in_world`: penetration()'s single point, already in world coordinates.
 struct Local {
   ContactPath path = ContactPath::none;
   double distance = 0.0;
   Vec normal = Vec::Zero();
   Vec point_a = Vec::Zero(), point_b = Vec::Zero();
+  bool witnesses = false;  // point_a, point_b set
   int count = 0;
   std::array<ContactPoint, kMaxContactPoints> points{};  // A's frame
   bool intersecting = false;
+  bool in_world = false;
 };
 
-// manifold.cpp's build_manifold for a sharp pair on axis `best`; false
-// where it would answer with penetration()'s point (the general path then
-// answers).
-bool build(const Pair& p, const SatAxis& best, double exact_limit, const ContactSettings& settings, Local& out,
-           int& clipped) {
+// What build() found: the answer, or that the general path must answer, or
+// that the cores are apart and the manifold follows their exact normal.
+enum class Built { answered, general, exact_normal };
+
+// manifold.cpp's emit() for sharp cores: the candidates within the contact
+// distance, reduced to four (more than four: a face's four and a witness
+// pair), the deepest first.
+void emit(Candidate* c, int count, const Vec& normal, const Pair& p, Local& out) {
+  int kept = 0;
+  for (int i = 0; i < count; ++i)
+    if (c[i].separation <= p.keep) c[kept++] = c[i];
+  std::array<int, kMaxContactPoints> keep{};
+  if (kept <= kMaxContactPoints) {
+    out.count = kept;
+    for (int k = 0; k < kept; ++k) keep[k] = k;
+    for (int k = 1; k < kept; ++k)
+      if (c[keep[k]].separation < c[keep[0]].separation) std::swap(keep[0], keep[k]);
+  } else {
+    out.count = reduce(c, kept, normal, p.band, p.tolerance, keep);
+  }
+  out.normal = normal;
+  for (int k = 0; k < out.count; ++k) {
+    const Candidate& x = c[keep[k]];
+    out.points[k].point = 0.5 * (x.on_a + x.on_b);
+    out.points[k].depth = -x.separation;
+    out.points[k].id = x.id;
+  }
+  if (out.count > 0) {
+    const Candidate& deepest = c[keep[0]];
+    out.distance = deepest.separation;
+    out.point_a = deepest.on_a;
+    out.point_b = deepest.on_b;
+    out.witnesses = true;
+  }
+  out.intersecting = out.count > 0 && out.distance <= 0.0;
+}
+
+// manifold.cpp's build_manifold for a sharp pair on axis `best`.
+Built build(const Pair& p, const SatAxis& best, double exact_limit, const ContactSettings& settings, Local& out,
+            int& clipped) {
   std::array<Candidate, kMaxContactPoints> c;
   int count = 0;
   const bool apart = best.separation > p.band;
@@ -547,7 +593,7 @@ bool build(const Pair& p, const SatAxis& best, double exact_limit, const Contact
     const bool of_a = best.kind == SatAxisKind::face_a;
     const Side sa = p.side_a(), sb = p.side_b();
     FaceClipper clipper(p, of_a ? sa : sb, of_a ? sb : sa, of_a ? best.feature_a : best.feature_b, of_a);
-    if (!clipper.run(p.core_contact, c.data(), count, clipped)) return false;
+    if (!clipper.run(p.core_contact, c.data(), count, clipped)) return Built::general;
     out.path = of_a ? ContactPath::face_a : ContactPath::face_b;
   } else {
     const BoxTopology& topo = topology();
@@ -567,36 +613,102 @@ bool build(const Pair& p, const SatAxis& best, double exact_limit, const Contact
   }
   double deepest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < count; ++i) deepest = std::min(deepest, c[i].separation);
-  // Sharp cores apart whose nearest candidate is not SAT's separation: the
-  // general path follows the exact normal.
-  if (apart && count > 0 && deepest > best.separation + p.band) return false;
+  // Sharp cores apart whose nearest candidate is not SAT's separation (SAT
+  // bounds their distance from below, the candidate from above): the
+  // closest features are no face's interior, the exact normal decides.
+  if (apart && count > 0 && deepest > best.separation + p.band) return Built::exact_normal;
   const double bias = settings.relative_bias * std::abs(best.separation) + settings.absolute_bias * p.scale;
   const double held = p.last ? p.hold : 0.0;
   const double limit = std::min(best.separation + bias, exact_limit) + held;
-  if (count == 0 || deepest > limit) return false;  // penetration()'s point
-  // emit(): the points within the contact distance, the deepest first.
-  int kept = 0;
-  for (int i = 0; i < count; ++i)
-    if (c[i].separation <= p.keep) c[kept++] = c[i];
-  for (int k = 1; k < kept; ++k)
-    if (c[k].separation < c[0].separation) std::swap(c[0], c[k]);
-  out.count = kept;
-  out.normal = best.normal;
-  for (int k = 0; k < kept; ++k) {
-    out.points[k].point = 0.5 * (c[k].on_a + c[k].on_b);
-    out.points[k].depth = -c[k].separation;
-    out.points[k].id = c[k].id;
-  }
-  if (kept > 0) {
-    out.distance = c[0].separation;
-    out.point_a = c[0].on_a;
-    out.point_b = c[0].on_b;
-    out.intersecting = out.distance <= 0.0;
-  } else {
+  if (count == 0 || deepest > limit) return Built::general;  // penetration()'s point
+  emit(c.data(), count, best.normal, p, out);
+  if (out.count == 0) {  // nothing within the contact distance: the axis
     out.distance = best.separation;
+    out.normal = best.normal;
     out.intersecting = false;
   }
-  return true;
+  return Built::answered;
+}
+
+// Sharp cores apart (manifold.cpp's rounded_cores_apart with no radii): the
+// exact normal n of penetration(); the face of A (else of B) within the face
+// angle tolerance of n is the reference, its incident face clipped by its
+// side planes swept along n, penetration()'s witnesses added when every
+// clipped point is shallower; penetration()'s point when that leaves
+// nothing. `used`: the face, for the cache. Built::general when no face lies
+// along n (edge against edge or corner: the general path names the edges).
+Built exact_normal(const Pair& p, const Box& a, const Pose& pose_a, const Box& b, const Pose& pose_b,
+                   ContactCache* cache, const ContactSettings& settings, Local& out, int& clipped, SatAxis& used) {
+  const PenetrationResult pen =
+      penetration(Shape{a}, pose_a, Shape{b}, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
+  if (pen.status != Status::ok) return Built::general;
+  const double shape_scale = std::max(bounding_radius(a), bounding_radius(b));
+  const auto single = [&] {  // penetration_point()
+    out = Local{};
+    out.in_world = true;
+    out.path = ContactPath::single_point;
+    out.distance = pen.distance;
+    out.normal = pen.normal;
+    out.point_a = pen.point_a;
+    out.point_b = pen.point_b;
+    out.witnesses = true;
+    out.intersecting = pen.distance <= 0.0;
+    if (pen.distance <= settings.contact_distance + settings.penetration.touching_band * shape_scale) {
+      out.count = 1;
+      out.points[0].point = 0.5 * (pen.point_a + pen.point_b);
+      out.points[0].depth = -pen.distance;
+      out.points[0].id.kind = FeatureKind::single;
+    } else {
+      out.path = ContactPath::separated;
+    }
+  };
+  single();
+  used = SatAxis{};
+  if (out.count == 0) return Built::answered;
+  const Vec n = pose_a.rotation.transpose() * pen.normal;  // A's frame, A -> B
+  const BoxTopology& topo = topology();
+  const double cos_tol = std::cos(settings.face_angle_tolerance);
+  const auto face_along = [&](const Vec& d) {
+    Index face = hull::kInvalidIndex;
+    double best = cos_tol;
+    for (const Index f : topo.vertex_face[support(d)]) {
+      const double dot = topo.normal[f].dot(d);
+      if (dot >= best) {
+        best = dot;
+        face = f;
+      }
+    }
+    return face;
+  };
+  const Index fa = face_along(n);
+  const Index fb = fa == hull::kInvalidIndex ? face_along(p.rel.rotation.transpose() * -n) : hull::kInvalidIndex;
+  if (fa == hull::kInvalidIndex && fb == hull::kInvalidIndex) return Built::general;
+  const bool of_a = fa != hull::kInvalidIndex;
+  used.kind = of_a ? SatAxisKind::face_a : SatAxisKind::face_b;
+  used.feature_a = fa;
+  used.feature_b = fb;
+  const Vec along = of_a ? n : Vec(-n);
+  const Side sa = p.side_a(), sb = p.side_b();
+  FaceClipper clipper(p, of_a ? sa : sb, of_a ? sb : sa, of_a ? fa : fb, of_a, &along);
+  std::array<Candidate, kMaxContactPoints + 1> c;
+  int count = 0, face_clipped = 0;
+  if (!clipper.run(p.keep, c.data(), count, face_clipped)) return Built::answered;  // the single point
+  bool hit = false;
+  for (int i = 0; i < count; ++i) hit = hit || c[i].separation <= pen.distance + p.band;
+  if (!hit) {
+    FeatureId id;
+    id.kind = FeatureKind::single;
+    const Vec wa = pose_a.rotation.transpose() * (pen.point_a - pose_a.translation);
+    const Vec wb = pose_a.rotation.transpose() * (pen.point_b - pose_a.translation);
+    c[count++] = Candidate{wa, wb, pen.distance, id};
+  }
+  Local face;
+  face.path = of_a ? ContactPath::face_a : ContactPath::face_b;
+  emit(c.data(), count, n, p, face);
+  if (face.count == 0) return Built::answered;  // the single point
+  out = face;
+  clipped = face_clipped;
+  return Built::answered;
 }
 
 void remember(ContactCache* cache, const SatAxis& axis) {
@@ -612,13 +724,20 @@ void place(const Local& l, const Pose& pose_a, ContactResult& out) {
   out.path = l.path;
   out.distance = l.distance;
   out.intersecting = l.intersecting;
-  out.normal = pose_a.rotation * l.normal;
   out.count = l.count;
+  if (l.in_world) {
+    out.normal = l.normal;
+    for (int k = 0; k < l.count; ++k) out.points[k] = l.points[k];
+    out.point_a = l.point_a;
+    out.point_b = l.point_b;
+    return;
+  }
+  out.normal = pose_a.rotation * l.normal;
   for (int k = 0; k < l.count; ++k) {
     out.points[k] = l.points[k];
     out.points[k].point = pose_a.rotation * l.points[k].point + pose_a.translation;
   }
-  if (l.count > 0) {
+  if (l.witnesses) {
     out.point_a = pose_a.rotation * l.point_a + pose_a.translation;
     out.point_b = pose_a.rotation * l.point_b + pose_a.translation;
   }
@@ -648,6 +767,7 @@ bool recycle(const ContactCache& cache, const RelativePose& rel, const std::arra
   l.normal = m.normal;
   l.point_a = m.point_a;
   l.point_b = m.point_b;
+  l.witnesses = m.count > 0;
   l.count = m.count;
   l.points = m.points;
   l.intersecting = m.count > 0 ? m.distance <= 0.0 : false;
@@ -692,6 +812,7 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
   Local local;
   SatAxis used;
   int clipped = 0;
+  bool recyclable = true;
   const auto separated = [&](const SatAxis& axis) {
     local.path = ContactPath::separated;
     local.distance = axis.separation - p.ra - p.rb;
@@ -711,7 +832,18 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
       used = choose_axis(axes, cache, settings, p.scale);
       const double largest = std::max({axes.face_a.separation, axes.face_b.separation, axes.edge.separation});
       const double limit = largest <= p.band ? largest + p.band : std::numeric_limits<double>::infinity();
-      if (!build(p, used, limit, settings, local, clipped)) return hand_back();
+      const SatAxis chosen = used;
+      Built built = build(p, used, limit, settings, local, clipped);
+      if (built == Built::exact_normal) {
+        clipped = 0;
+        built = exact_normal(p, a, pose_a, b, pose_b, cache, settings, local, clipped, used);
+        recyclable = false;  // GJK's warm start moves with the cache
+      }
+      if (built == Built::general) return hand_back();
+      // penetration()'s point where the cache's kept face of B was chosen
+      // against the cold choice: the general path builds the cold one.
+      if (local.path == ContactPath::single_point && choose_axis(axes, nullptr, settings, p.scale).kind != chosen.kind)
+        return hand_back();
     }
   }
   place(local, pose_a, out);
@@ -723,7 +855,7 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
     cache->kept_count = local.count;
     for (int k = 0; k < local.count; ++k) cache->kept[k] = local.points[k].id;
     BoxPairMemory& m = cache->box;
-    m.valid = true;
+    m.valid = recyclable;
     m.rotation = p.rel.rotation;
     m.translation = p.rel.translation;
     m.inputs = inputs;
