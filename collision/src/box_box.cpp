@@ -332,6 +332,7 @@ class FaceClipper {
   FeatureId id_of(int i, const Vec& on_ref) const;  // of clipped point i
   int hold_last(const Candidate* c, const int* from, int count, std::array<int, kMaxContactPoints>& keep,
                 int kept) const;
+  bool same_as_last(const std::array<FeatureId, kMaxContactPoints>& ids, int kept) const;
 
   const Pair& pair_;
   const Side& ref_;
@@ -402,15 +403,27 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
     }
   }
   std::array<int, kMaxContactPoints> keep{};
-  int kept = reduce(below.data(), count, u_, pair_.band, pair_.tolerance, keep);
-  if (pair_.last && count > kMaxContactPoints) kept = hold_last(below.data(), from.data(), count, keep, kept);
+  const int kept = reduce(below.data(), count, u_, pair_.band, pair_.tolerance, keep);
+  std::array<FeatureId, kMaxContactPoints> ids;
+  const auto name_kept = [&] {
+    for (int i = 0; i < kept; ++i)
+      ids[i] = id_of(from[keep[i]], Vec(below[keep[i]].on_b - below[keep[i]].separation * u_));
+  };
+  name_kept();
+  // With a cache, the last frame's points while they hold (hold_last); when
+  // the cold choice is those very points (the same features touch: the
+  // common case) nothing else needs a name.
+  if (pair_.last && count > kMaxContactPoints && !same_as_last(ids, kept)) {
+    const std::array<int, kMaxContactPoints> cold = keep;
+    hold_last(below.data(), from.data(), count, keep, kept);
+    if (keep != cold) name_kept();
+  }
   out_count = 0;
   for (int i = 0; i < kept; ++i) {
     const Vec p = below[keep[i]].on_b;
     const double s = below[keep[i]].separation;
     const Vec on_ref = p - s * u_;
-    const FeatureId id = id_of(from[keep[i]], on_ref);
-    out[out_count++] = ref_is_a_ ? Candidate{on_ref, p, s, id} : Candidate{p, on_ref, s, id};
+    out[out_count++] = ref_is_a_ ? Candidate{on_ref, p, s, ids[i]} : Candidate{p, on_ref, s, ids[i]};
   }
   return true;
 }
@@ -475,6 +488,20 @@ FeatureId FaceClipper::id_of(int i, const Vec& on_ref) const {
   }
   id.incident = inc_face_;
   return id;
+}
+
+// True when the kept points' ids are the last frame's, each once (then
+// hold_last() would keep them as they are).
+bool FaceClipper::same_as_last(const std::array<FeatureId, kMaxContactPoints>& ids, int kept) const {
+  const ContactCache& last = *pair_.last;
+  if (last.kept_count != kept) return false;
+  for (int i = 0; i < kept; ++i) {
+    int matches = 0;
+    for (int k = 0; k < kept; ++k) matches += last.kept[k] == ids[i];
+    for (int k = 0; k < kept; ++k) matches -= k != i && ids[k] == ids[i];
+    if (matches != 1) return false;
+  }
+  return true;
 }
 
 // manifold.cpp's hold_last: the last frame's four points while all are

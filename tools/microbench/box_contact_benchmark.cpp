@@ -15,15 +15,17 @@
 // box's outer size (half extents + margin), a yardstick only.
 //
 // Each repeat times, per family, the 1000 frames cold (no cache), warm (one
-// cache carried across the frames) and Bullet, interleaved; the table gives
-// the medians over the repeats of ns per call and of the ratios taken within
+// cache carried across the frames), the same two on the general polytope
+// path (ContactSettings::box_box_path = false: what box pairs took before
+// box_box.cpp) and Bullet, interleaved; the table (markdown) gives the
+// medians over the repeats of ns per call and of the ratios taken within
 // each repeat (cold / Bullet, warm / cold), and the warm cache's hit rate.
 //
 // Run:   build/bin/box_contact_benchmark [--repeats 9] [--filter SUBSTRING]
-// Count: valgrind --tool=callgrind --toggle-collect='*contact*' ... is noisy
-//        about setup; instead `--once NAME cold|warm|bullet` runs one family's
-//        1000 frames in one mode (callgrind's total less a `--once NAME none`
-//        run, divided by 1000, is the instructions per call; box_contact_table.sh).
+// Count: `--once NAME MODE` runs one family's 1000 frames in one mode (cold,
+//        warm, bullet, general-cold, general-warm, none); callgrind's total
+//        less the `none` run's, divided by 1000, is the instructions per call
+//        (box_contact_instructions.sh runs them).
 #include <BulletCollision/CollisionDispatch/btBoxBoxDetector.h>
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 
@@ -155,9 +157,10 @@ struct Run {
 
 using Clock = std::chrono::steady_clock;
 
-Run run_hedra(const Family& f, bool warm) {
+Run run_hedra(const Family& f, bool warm, bool box_path = true) {
   ContactSettings settings;
   settings.contact_distance = f.contact_distance;
+  settings.box_box_path = box_path;
   ContactCache cache;
   Run r;
   const Shape a = f.a, b = f.b;
@@ -212,7 +215,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: box_contact_benchmark [--repeats N] [--filter SUBSTRING] [--once FAMILY "
-                   "cold|warm|bullet|none]\n");
+                   "cold|warm|bullet|general-cold|general-warm|none]\n");
       return 2;
     }
   }
@@ -225,20 +228,26 @@ int main(int argc, char** argv) {
       if (mode == "cold") r = run_hedra(f, false);
       if (mode == "warm") r = run_hedra(f, true);
       if (mode == "bullet") r = run_bullet(bf);
+      if (mode == "general-cold") r = run_hedra(f, false, false);
+      if (mode == "general-warm") r = run_hedra(f, true, false);
       std::printf("%s %s points %ld hits %d sink %.6g\n", f.name.c_str(), mode.c_str(), r.points, r.hits, r.sink);
       return 0;
     }
     std::fprintf(stderr, "no family %s\n", once.c_str());
     return 2;
   }
-  std::printf("%-26s %9s %9s %9s %8s %8s %6s %7s %7s\n", "family", "cold ns", "warm ns", "bullet ns", "cold/bt",
-              "warm/cold", "hits", "points", "bt pts");
+  std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", "family", "general cold ns",
+              "general warm ns", "cold ns", "warm ns", "btBoxBoxDetector ns", "cold / bullet", "warm / cold", "hits",
+              "points", "bullet points");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Family& f : families) {
     if (!filter.empty() && f.name.find(filter) == std::string::npos) continue;
     const BulletFamily bf = bullet_family(f);
-    std::vector<double> cold, warm, bullet, cold_bt, warm_cold;
+    std::vector<double> general_cold, general_warm, cold, warm, bullet, cold_bt, warm_cold;
     Run c, w, b;
     for (int r = 0; r < repeats; ++r) {
+      general_cold.push_back(run_hedra(f, false, false).ns);
+      general_warm.push_back(run_hedra(f, true, false).ns);
       c = run_hedra(f, false);
       w = run_hedra(f, true);
       b = run_bullet(bf);
@@ -248,8 +257,9 @@ int main(int argc, char** argv) {
       cold_bt.push_back(c.ns / b.ns);
       warm_cold.push_back(w.ns / c.ns);
     }
-    std::printf("%-26s %9.0f %9.0f %9.0f %8.2f %8.2f %5.1f%% %7.2f %7.2f\n", f.name.c_str(), median(cold), median(warm),
-                median(bullet), median(cold_bt), median(warm_cold), 100.0 * w.hits / f.pose_a.size(),
+    std::printf("| %s | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f | %.2f | %.1f %% | %.2f | %.2f |\n", f.name.c_str(),
+                median(general_cold), median(general_warm), median(cold), median(warm), median(bullet),
+                median(cold_bt), median(warm_cold), 100.0 * w.hits / f.pose_a.size(),
                 static_cast<double>(c.points) / f.pose_a.size(), static_cast<double>(b.points) / f.pose_a.size());
   }
   return 0;
