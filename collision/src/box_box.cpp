@@ -334,6 +334,11 @@ class FaceClipper {
                 int kept) const;
   bool same_as_last(const std::array<FeatureId, kMaxContactPoints>& ids, int kept) const;
 
+ public:
+  Index incident() const { return inc_face_; }
+
+ private:
+
   const Pair& pair_;
   const Side& ref_;
   const Side& inc_;
@@ -657,12 +662,69 @@ Built build(const Pair& p, const SatAxis& best, double exact_limit, const Contac
   return Built::answered;
 }
 
-// Sharp cores apart (manifold.cpp's rounded_cores_apart with no radii): the
+// manifold.cpp's segment_exit: how far the ray p + t d (d unit, p within r
+// of the segment a-b) runs inside the capsule of radius r about a-b (the
+// ball at a and the cylinder; the ball at b is the next edge's ball at a).
+double segment_exit(const Vec& p, const Vec& d, const Vec& a, const Vec& b, double r) {
+  double t = -std::numeric_limits<double>::infinity();
+  const Vec w = p - a;
+  const double bq = d.dot(w), disc = bq * bq - (w.squaredNorm() - r * r);
+  if (disc >= 0.0) t = -bq + std::sqrt(disc);
+  const Vec ab = b - a;
+  const double len = ab.norm();
+  if (!(len > 0.0)) return t;
+  const Vec u = ab / len;
+  const Vec dp = d - d.dot(u) * u, wp = w - w.dot(u) * u;
+  const double qa = dp.squaredNorm(), qb = dp.dot(wp), qd = qb * qb - qa * (wp.squaredNorm() - r * r);
+  if (qa > 0.0 && qd >= 0.0) {
+    const double tc = (-qb + std::sqrt(qd)) / qa;
+    const double along = (w + tc * d).dot(u);
+    if (along >= 0.0 && along <= len) t = std::max(t, tc);
+  }
+  return t;
+}
+
+// manifold.cpp's exit_distance for a box: how far the ray p + t d (p on face
+// f of the core, A's frame) runs inside the core grown by r, the last exit
+// of the slabs of f and the faces around it, the cylinders of f's edges and
+// the balls of its corners.
+double exit_distance(const Side& box, Index f, const Vec& p, const Vec& d, double r) {
+  const BoxTopology& topo = topology();
+  double t = r;
+  const auto slab = [&](Index g) {
+    const Vec n = box.direction(topo.normal[g]);
+    const double nd = n.dot(d);
+    if (!(nd > 0.0)) return;
+    const Vec c = box.point(topo.face_vertex[g][0]);
+    const double ts = (n.dot(c - p) + r) / nd;
+    const Vec foot = p + ts * d - r * n;
+    for (int k = 0; k < 4; ++k) {
+      const Vec a = box.point(topo.face_vertex[g][k]);
+      const Vec side = (box.point(topo.face_vertex[g][(k + 1) & 3]) - a).cross(n);
+      if (!(side.dot(foot - a) <= 0.0)) return;
+    }
+    t = std::max(t, ts);
+  };
+  unsigned seen = 0;
+  for (int k = 0; k < 4; ++k) {
+    const Index v = topo.face_vertex[f][k];
+    t = std::max(t, segment_exit(p, d, box.point(v), box.point(topo.face_vertex[f][(k + 1) & 3]), r));
+    for (const Index g : topo.vertex_face[v])
+      if (!(seen & (1u << g))) {
+        seen |= 1u << g;
+        slab(g);
+      }
+  }
+  return t;
+}
+
+// Sharp or rounded cores apart (manifold.cpp's rounded_cores_apart): the
 // exact normal n of penetration(); the face of A (else of B) within the face
 // angle tolerance of n is the reference, its incident face clipped by its
-// side planes swept along n, penetration()'s witnesses added when every
-// clipped point is shallower; penetration()'s point when that leaves
-// nothing. `used`: the face, for the cache. Built::general when no face lies
+// side planes swept along n, each point's depth the gap of the rounded
+// surfaces on its line along n (both cores' exits along it), penetration()'s
+// witnesses added when every clipped point is shallower; penetration()'s
+// point when that leaves nothing. `used`: the face, for the cache. Built::general when no face lies
 // along n (edge against edge or corner: the general path names the edges).
 Built exact_normal(const Pair& p, const Box& a, const Pose& pose_a, const Box& b, const Pose& pose_b,
                    ContactCache* cache, const ContactSettings& settings, Local& out, int& clipped, SatAxis& used) {
@@ -719,7 +781,23 @@ Built exact_normal(const Pair& p, const Box& a, const Pose& pose_a, const Box& b
   FaceClipper clipper(p, of_a ? sa : sb, of_a ? sb : sa, of_a ? fa : fb, of_a, &along);
   std::array<Candidate, kMaxContactPoints + 1> c;
   int count = 0, face_clipped = 0;
-  if (!clipper.run(p.keep, c.data(), count, face_clipped)) return Built::answered;  // the single point
+  if (!clipper.run(p.core_contact, c.data(), count, face_clipped)) return Built::answered;  // the single point
+  if (p.ra + p.rb > 0.0) {  // manifold.cpp's round_along
+    const double r_ref = of_a ? p.ra : p.rb, r_inc = of_a ? p.rb : p.ra;
+    const Side& ref = of_a ? sa : sb;
+    const Side& inc = of_a ? sb : sa;
+    const Index ref_face = of_a ? fa : fb, inc_face = clipper.incident();
+    for (int i = 0; i < count; ++i) {
+      Candidate& x = c[i];
+      Vec& on_ref = of_a ? x.on_a : x.on_b;
+      Vec& on_inc = of_a ? x.on_b : x.on_a;
+      const double t_ref = r_ref > 0.0 ? exit_distance(ref, ref_face, on_ref, along, r_ref) : 0.0;
+      const double t_inc = r_inc > 0.0 ? exit_distance(inc, inc_face, on_inc, -along, r_inc) : 0.0;
+      on_ref += t_ref * along;
+      on_inc -= t_inc * along;
+      x.separation -= t_ref + t_inc;
+    }
+  }
   bool hit = false;
   for (int i = 0; i < count; ++i) hit = hit || c[i].separation <= pen.distance + p.band;
   if (!hit) {
@@ -840,6 +918,32 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
   SatAxis used;
   int clipped = 0;
   bool recyclable = true;
+  const auto finish = [&] {
+    place(local, pose_a, out);
+    out.stats.edge_pairs = axes.edge_pairs;
+    out.stats.clipped_points = clipped;
+    if (cache) {
+      remember(cache, used);
+      cache->support_a = cache->support_b = 0;
+      cache->kept_count = local.count;
+      for (int k = 0; k < local.count; ++k) cache->kept[k] = local.points[k].id;
+      BoxPairMemory& m = cache->box;
+      m.valid = recyclable;
+      m.rotation = p.rel.rotation;
+      m.translation = p.rel.translation;
+      m.inputs = inputs;
+      m.path = local.path;
+      m.distance = local.distance;
+      m.normal = local.normal;
+      m.point_a = local.point_a;
+      m.point_b = local.point_b;
+      m.count = local.count;
+      m.points = local.points;
+      m.edge_pairs = axes.edge_pairs;
+      m.clipped_points = clipped;
+    }
+    return true;
+  };
   const auto separated = [&](const SatAxis& axis) {
     local.path = ContactPath::separated;
     local.distance = axis.separation - p.ra - p.rb;
@@ -853,10 +957,17 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
     if (axes.edge.kind == SatAxisKind::edge && axes.edge.separation > p.core_contact) {
       separated(axes.edge);
     } else {
-      // Rounded cores touching or overlapping, or apart: the rounded exits
-      // and the exact normal are the general path's.
-      if (p.ra + p.rb > 0.0) return hand_back();
       used = choose_axis(axes, cache, settings, p.scale);
+      if (p.ra + p.rb > 0.0) {
+        // Rounded cores touching or overlapping: their depths need the
+        // incident side's exits along the face normal (the general path's).
+        if (!(used.separation > p.band)) return hand_back();
+        // Apart: the exact normal of the cores (contact_by_sat's rounded branch).
+        if (exact_normal(p, a, pose_a, b, pose_b, cache, settings, local, clipped, used) == Built::general)
+          return hand_back();
+        recyclable = false;
+        return finish();
+      }
       const double largest = std::max({axes.face_a.separation, axes.face_b.separation, axes.edge.separation});
       const double limit = largest <= p.band ? largest + p.band : std::numeric_limits<double>::infinity();
       const SatAxis chosen = used;
@@ -873,30 +984,7 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
         return hand_back();
     }
   }
-  place(local, pose_a, out);
-  out.stats.edge_pairs = axes.edge_pairs;
-  out.stats.clipped_points = clipped;
-  if (cache) {
-    remember(cache, used);
-    cache->support_a = cache->support_b = 0;
-    cache->kept_count = local.count;
-    for (int k = 0; k < local.count; ++k) cache->kept[k] = local.points[k].id;
-    BoxPairMemory& m = cache->box;
-    m.valid = recyclable;
-    m.rotation = p.rel.rotation;
-    m.translation = p.rel.translation;
-    m.inputs = inputs;
-    m.path = local.path;
-    m.distance = local.distance;
-    m.normal = local.normal;
-    m.point_a = local.point_a;
-    m.point_b = local.point_b;
-    m.count = local.count;
-    m.points = local.points;
-    m.edge_pairs = axes.edge_pairs;
-    m.clipped_points = clipped;
-  }
-  return true;
+  return finish();
 }
 
 }  // namespace hedra::collision::detail
