@@ -685,36 +685,32 @@ double segment_exit(const Vec& p, const Vec& d, const Vec& a, const Vec& b, doub
 }
 
 // manifold.cpp's exit_distance for a box: how far the ray p + t d (p on face
-// f of the core, A's frame) runs inside the core grown by r, the last exit
-// of the slabs of f and the faces around it, the cylinders of f's edges and
-// the balls of its corners.
-double exit_distance(const Side& box, Index f, const Vec& p, const Vec& d, double r) {
+// f of the core, A's frame) runs inside the core grown by r: the last exit of
+// the slabs of f and the four faces around it, the cylinders of f's edges
+// and the balls of its corners. Worked in the box's own frame, where a slab's
+// foot lies on its face when its other two coordinates are within the half
+// extents (the general path's side-plane test, without the planes).
+double exit_distance(const Side& box, Index f, const Vec& p_in, const Vec& d_in, double r) {
   const BoxTopology& topo = topology();
+  const Vec p = box.rotation ? Vec(box.rotation->transpose() * (p_in - *box.translation)) : p_in;
+  const Vec d = box.local_direction(d_in);
+  const Vec& h = box.h;
   double t = r;
-  const auto slab = [&](Index g) {
-    const Vec n = box.direction(topo.normal[g]);
-    const double nd = n.dot(d);
-    if (!(nd > 0.0)) return;
-    const Vec c = box.point(topo.face_vertex[g][0]);
-    const double ts = (n.dot(c - p) + r) / nd;
-    const Vec foot = p + ts * d - r * n;
-    for (int k = 0; k < 4; ++k) {
-      const Vec a = box.point(topo.face_vertex[g][k]);
-      const Vec side = (box.point(topo.face_vertex[g][(k + 1) & 3]) - a).cross(n);
-      if (!(side.dot(foot - a) <= 0.0)) return;
-    }
+  const int opposite = static_cast<int>(f ^ 1u);  // faces 2k, 2k + 1: -axis k, +axis k
+  for (int g = 0; g < 6; ++g) {
+    if (g == opposite) continue;
+    const int k = g >> 1;
+    const double sign = (g & 1) ? 1.0 : -1.0;
+    const double nd = sign * d[k];
+    if (!(nd > 0.0)) continue;
+    const double ts = (h[k] - sign * p[k] + r) / nd;
+    const Vec foot = p + ts * d - r * sign * Vec::Unit(k);
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    if (!(std::abs(foot[i]) <= h[i] && std::abs(foot[j]) <= h[j])) continue;
     t = std::max(t, ts);
-  };
-  unsigned seen = 0;
-  for (int k = 0; k < 4; ++k) {
-    const Index v = topo.face_vertex[f][k];
-    t = std::max(t, segment_exit(p, d, box.point(v), box.point(topo.face_vertex[f][(k + 1) & 3]), r));
-    for (const Index g : topo.vertex_face[v])
-      if (!(seen & (1u << g))) {
-        seen |= 1u << g;
-        slab(g);
-      }
   }
+  for (int k = 0; k < 4; ++k)
+    t = std::max(t, segment_exit(p, d, corner(h, topo.face_vertex[f][k]), corner(h, topo.face_vertex[f][(k + 1) & 3]), r));
   return t;
 }
 
