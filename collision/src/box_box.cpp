@@ -915,6 +915,9 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
   int clipped = 0;
   bool recyclable = true;
   const auto finish = [&] {
+    HEDRA_ASSERT(local.count >= 0 && local.count <= kMaxContactPoints);
+    HEDRA_ASSERT(std::abs(local.normal.squaredNorm() - 1.0) <= 1e-9);  // a unit normal, A toward B
+    HEDRA_ASSERT(local.count == 0 || local.points[0].depth == -local.distance);  // the deepest first
     place(local, pose_a, out);
     out.stats.edge_pairs = axes.edge_pairs;
     out.stats.clipped_points = clipped;

@@ -63,6 +63,9 @@
 //     clipped like a capsule's. Otherwise one point.
 //   * every other pair (spheres, curved against curved, point/segment/flat
 //     hulls): one point from penetration().
+// Two boxes take box_box.cpp's path: the polytope path above written for the
+// box (SAT from the relative rotation, no support call), the same answers
+// (ContactSettings::box_box_path = false runs the general one).
 // Margins (rounded shapes): every point's depth is the gap of the rounded
 // surfaces on its line along the normal (the reference side its radius out
 // of the face; the incident side where the line leaves the incident core
@@ -251,7 +254,8 @@ struct ContactCache {
 };
 
 struct ContactStats {
-  bool cache_hit = false;  // answered from the cached face axis (separated, or certified exact)
+  bool cache_hit = false;  // answered from the cached face axis (separated, or certified exact), or a box
+                           // pair's last answer (its relative pose bit for bit the same: ContactCache::box)
   int edge_pairs = 0;      // SAT edge pairs that passed the Gauss-map test
   int clipped_points = 0;  // points after clipping, before the contact-distance filter and reduction
 };
