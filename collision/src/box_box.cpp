@@ -148,8 +148,12 @@ void face_axes(const Pair& p, Axes& out) {
   }
 }
 
-// The 9 edge axes (sat.cpp's box_edge_query, the same expressions).
-void edge_axes(const Pair& p, double parallel_tolerance, Axes& out) {
+// The 9 edge axes (sat.cpp's box_edge_query, the same expressions). An edge
+// pair whose numerator |n . t| - r_A - r_B is negative and at most `floor`
+// (the best face axis) separates by no more than it (|e_A x e_B| <= 1, and
+// rounding is monotone): it can be no chosen axis and no largest separation,
+// and its square root and division are skipped.
+void edge_axes(const Pair& p, double parallel_tolerance, double floor, Axes& out) {
   const Eigen::Matrix3d& r = p.rel.rotation;
   const Vec& t = p.rel.translation;
   int best_i = -1, best_j = -1;
@@ -163,8 +167,10 @@ void edge_axes(const Pair& p, double parallel_tolerance, Axes& out) {
       const double nt = t[i2] * r(i1, j) - t[i1] * r(i2, j);
       const double radius_a = p.ha[i1] * std::abs(r(i2, j)) + p.ha[i2] * std::abs(r(i1, j));
       const double radius_b = p.hb[j1] * std::abs(r(i, j2)) + p.hb[j2] * std::abs(r(i, j1));
-      const double s = (std::abs(nt) - radius_a - radius_b) / std::sqrt(len2);
+      const double numerator = std::abs(nt) - radius_a - radius_b;
       ++out.edge_pairs;
+      if (numerator <= std::min(floor, 0.0)) continue;
+      const double s = numerator / std::sqrt(len2);
       if (s > out.edge.separation) {
         out.edge.separation = s;
         best_i = i;
@@ -952,7 +958,7 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
   if (axes.face_a.separation > p.core_contact || axes.face_b.separation > p.core_contact) {
     separated(axes.face_b.separation > axes.face_a.separation ? axes.face_b : axes.face_a);
   } else {
-    edge_axes(p, settings.parallel_tolerance, axes);
+    edge_axes(p, settings.parallel_tolerance, std::max(axes.face_a.separation, axes.face_b.separation), axes);
     if (axes.edge.kind == SatAxisKind::edge && axes.edge.separation > p.core_contact) {
       separated(axes.edge);
     } else {
