@@ -5,10 +5,10 @@
 #include <cmath>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/hull/mesh_edit.hpp>
-
-#include "box_box.hpp"
 #include <new>
 #include <type_traits>
+
+#include "box_box.hpp"
 
 namespace hedra::collision {
 
