@@ -123,6 +123,7 @@ class FaceClipper {
   Index ref_face_;
   bool ref_is_a_;
   const Vec* along_;
+  bool axis_aligned_ = false;  // a face of A swept along its normal: side planes +-e_i . x = h_i
   Vec n_;  // A's frame, out of the reference face
   Vec u_;  // the sweep: along_ or n_
   Index inc_face_ = 0;

@@ -49,10 +49,13 @@ const BoxTopology& topology() {
 
 namespace {
 
-// hull::clip_polygon for the unit plane n . x = d, label 4 + j (the same
+// hull::clip_polygon for a unit plane n . x = d, label 4 + j (the same
 // classification and crossings): keeps the part with n . x - d <= tol.
 // False on a non-finite crossing (the general path then answers).
-bool clip(const Polygon& in, const Vec& n, double d, int label, double tol, Polygon& out) {
+// `distance(x)`: the signed distance n . x - d (a general plane, or an
+// axis-aligned one in the reference box's own frame: one coordinate).
+template <class Distance>
+bool clip(const Polygon& in, const Distance& distance, int label, double tol, Polygon& out) {
   out.count = 0;
   const auto side = [&](double s) { return s > tol ? 1 : (s < -tol ? -1 : 0); };
   const auto crossing = [](const Vec& b, double db, const Vec& f, double df) {
@@ -68,10 +71,10 @@ bool clip(const Polygon& in, const Vec& n, double d, int label, double tol, Poly
   };
   if (in.count == 0) return true;
   if (in.count <= 2) {
-    const double d0 = n.dot(in.p[0]) - d;
+    const double d0 = distance(in.p[0]);
     const int s0 = side(d0);
     if (in.count == 1) return s0 == 1 || emit(in.p[0], in.origin[0], in.next[0]);
-    const double d1 = n.dot(in.p[1]) - d;
+    const double d1 = distance(in.p[1]);
     const int s1 = side(d1);
     const int on = 8 + in.next[0];
     if (s0 != 1 && !emit(in.p[0], in.origin[0], in.next[0])) return false;
@@ -79,10 +82,10 @@ bool clip(const Polygon& in, const Vec& n, double d, int label, double tol, Poly
     if (s0 == 1 && s1 == -1 && !emit(crossing(in.p[1], d1, in.p[0], d0), on, in.next[0])) return false;
     return s1 == 1 || emit(in.p[1], in.origin[1], in.next[1]);
   }
-  double d_cur = n.dot(in.p[0]) - d;
+  double d_cur = distance(in.p[0]);
   for (int i = 0; i < in.count; ++i) {
     const int j = i + 1 == in.count ? 0 : i + 1;
-    const double d_next = n.dot(in.p[j]) - d;
+    const double d_next = distance(in.p[j]);
     const int s_cur = side(d_cur), s_next = side(d_next);
     const int on = 8 + in.next[i];
     if (s_cur != 1 && !emit(in.p[i], in.origin[i], s_cur == 0 && s_next == 1 ? label : in.next[i])) return false;
@@ -154,8 +157,16 @@ void FaceClipper::incident_face() {
   }
 }
 
+// On a face of A swept along its normal (the common case: A's face is the
+// incumbent axis) the side planes are axis-aligned in A's frame, the frame
+// everything is worked in: each plane's distance is one coordinate less a
+// half extent, bit for bit n . x - d of the unit axis normal the general path
+// builds. Otherwise the side planes are general. (Clipping a face of B in B's
+// own frame would change the rounding of its points and so the sign of an
+// exact touch: B's faces keep the general path's arithmetic.)
 bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int& clipped) {
   const BoxTopology& topo = topology();
+  axis_aligned_ = along_ == nullptr && ref_is_a_;
   n_ = ref_.direction(topo.normal[ref_face_]);
   u_ = along_ ? *along_ : n_;
   const double slope = along_ ? n_.dot(u_) : 1.0;  // within the face angle tolerance of 1
@@ -169,15 +180,36 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
     a.origin[k] = a.next[k] = k;
   }
   a.count = 4;
+  std::array<int, 4> side_axis{};
   for (int k = 0; k < 4; ++k) {
-    const Vec side = (ref_corner_[(k + 1) & 3] - ref_corner_[k]).cross(u_).normalized();
-    side_normal_[k] = side;
-    side_offset_[k] = side.dot(ref_corner_[k]);
+    const Vec edge_cross = (ref_corner_[(k + 1) & 3] - ref_corner_[k]).cross(u_);
+    if (axis_aligned_) {  // along one axis: its unit vector is what normalized() gives, bit for bit
+      const int i = edge_cross.x() != 0.0 ? 0 : (edge_cross.y() != 0.0 ? 1 : 2);
+      HEDRA_ASSERT(edge_cross.squaredNorm() == edge_cross[i] * edge_cross[i]);
+      side_axis[k] = i;
+      side_normal_[k] = (edge_cross[i] > 0.0 ? 1.0 : -1.0) * Vec::Unit(i);
+    } else {
+      side_normal_[k] = edge_cross.normalized();
+    }
+    side_offset_[k] = side_normal_[k].dot(ref_corner_[k]);
   }
   Polygon* src = &a;
   Polygon* dst = &b;
   for (int k = 0; k < 4 && src->count > 0; ++k) {
-    if (!clip(*src, side_normal_[k], side_offset_[k], 4 + k, pair_.tolerance, *dst)) return false;
+    bool finite = true;
+    if (axis_aligned_) {
+      const int i = side_axis[k];
+      const double d = side_offset_[k];
+      if (side_normal_[k][i] > 0.0)
+        finite = clip(*src, [&](const Vec& x) { return x[i] - d; }, 4 + k, pair_.tolerance, *dst);
+      else
+        finite = clip(*src, [&](const Vec& x) { return -x[i] - d; }, 4 + k, pair_.tolerance, *dst);
+    } else {
+      const Vec& sn = side_normal_[k];
+      const double d = side_offset_[k];
+      finite = clip(*src, [&](const Vec& x) { return sn.dot(x) - d; }, 4 + k, pair_.tolerance, *dst);
+    }
+    if (!finite) return false;
     std::swap(src, dst);
   }
   clipped_ = src;
@@ -210,8 +242,8 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
   }
   out_count = 0;
   for (int i = 0; i < kept; ++i) {
-    const Vec p = below[keep[i]].on_b;
     const double s = below[keep[i]].separation;
+    const Vec& p = below[keep[i]].on_b;
     const Vec on_ref = p - s * u_;
     out[out_count++] = ref_is_a_ ? Candidate{on_ref, p, s, ids[i]} : Candidate{p, on_ref, s, ids[i]};
   }
