@@ -1628,7 +1628,8 @@ ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const 
                       const ContactSettings& settings) {
   // valid(), not only finite(): translations beyond max_coordinate are invalid in
   // every query.
-  if (!pose_a.valid() || !pose_b.valid() || !validate(a).ok() || !validate(b).ok() ||
+  // is_valid(): validate()'s predicate without building its message.
+  if (!pose_a.valid() || !pose_b.valid() || !is_valid(a) || !is_valid(b) ||
       !pair_in_range(a, pose_a, b, pose_b) || !std::isfinite(settings.contact_distance)) {
     ContactResult out;
     out.status = Status::invalid_input;
