@@ -117,6 +117,7 @@ class FaceClipper {
 
  private:
 
+  const BoxTopology& topo_ = topology();
   const Pair& pair_;
   const Side& ref_;
   const Side& inc_;

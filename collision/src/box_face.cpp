@@ -144,7 +144,7 @@ int reduce(const Candidate* c, int count, const Vec& n, double depth_tie, double
 
 
 void FaceClipper::incident_face() {
-  const BoxTopology& topo = topology();
+  const BoxTopology& topo = topo_;
   const Vec m = inc_.local_direction(u_);
   const Index v = support(-m);
   double best = std::numeric_limits<double>::infinity();
@@ -165,7 +165,7 @@ void FaceClipper::incident_face() {
 // own frame would change the rounding of its points and so the sign of an
 // exact touch: B's faces keep the general path's arithmetic.)
 bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int& clipped) {
-  const BoxTopology& topo = topology();
+  const BoxTopology& topo = topo_;
   axis_aligned_ = along_ == nullptr && ref_is_a_;
   n_ = ref_.direction(topo.normal[ref_face_]);
   u_ = along_ ? *along_ : n_;
@@ -255,7 +255,7 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
 // else a reference corner. A crossing on incident edge k is named by k
 // without measuring its distance to every incident edge.
 FeatureId FaceClipper::id_of(int i, const Vec& on_ref) const {
-  const BoxTopology& topo = topology();
+  const BoxTopology& topo = topo_;
   const Vec& p = clipped_->p[i];
   FeatureId id;
   id.reference_on_b = !ref_is_a_;
