@@ -62,8 +62,10 @@ bool clip(const Polygon& in, const Distance& distance, int label, double tol, Po
     const double t = db / (db - df);
     return Vec(b + t * (f - b));
   };
-  const auto emit = [&](const Vec& x, int origin, int next) {
-    if (!x.allFinite() || out.count == kMaxPolygon) return false;
+  // Points carried over are finite (run() checks the incident corners):
+  // only crossings are checked.
+  const auto emit = [&](const Vec& x, int origin, int next, bool crossed = false) {
+    if ((crossed && !x.allFinite()) || out.count == kMaxPolygon) return false;
     out.p[out.count] = x;
     out.origin[out.count] = origin;
     out.next[out.count++] = next;
@@ -78,8 +80,8 @@ bool clip(const Polygon& in, const Distance& distance, int label, double tol, Po
     const int s1 = side(d1);
     const int on = 8 + in.next[0];
     if (s0 != 1 && !emit(in.p[0], in.origin[0], in.next[0])) return false;
-    if (s0 == -1 && s1 == 1 && !emit(crossing(in.p[0], d0, in.p[1], d1), on, in.next[0])) return false;
-    if (s0 == 1 && s1 == -1 && !emit(crossing(in.p[1], d1, in.p[0], d0), on, in.next[0])) return false;
+    if (s0 == -1 && s1 == 1 && !emit(crossing(in.p[0], d0, in.p[1], d1), on, in.next[0], true)) return false;
+    if (s0 == 1 && s1 == -1 && !emit(crossing(in.p[1], d1, in.p[0], d0), on, in.next[0], true)) return false;
     return s1 == 1 || emit(in.p[1], in.origin[1], in.next[1]);
   }
   double d_cur = distance(in.p[0]);
@@ -90,9 +92,9 @@ bool clip(const Polygon& in, const Distance& distance, int label, double tol, Po
     const int on = 8 + in.next[i];
     if (s_cur != 1 && !emit(in.p[i], in.origin[i], s_cur == 0 && s_next == 1 ? label : in.next[i])) return false;
     if (s_cur == -1 && s_next == 1) {
-      if (!emit(crossing(in.p[i], d_cur, in.p[j], d_next), on, label)) return false;
+      if (!emit(crossing(in.p[i], d_cur, in.p[j], d_next), on, label, true)) return false;
     } else if (s_cur == 1 && s_next == -1) {
-      if (!emit(crossing(in.p[j], d_next, in.p[i], d_cur), on, in.next[i])) return false;
+      if (!emit(crossing(in.p[j], d_next, in.p[i], d_cur), on, in.next[i], true)) return false;
     }
     d_cur = d_next;
   }
@@ -178,6 +180,7 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
   for (int k = 0; k < 4; ++k) {
     a.p[k] = incident_[k] = inc_.point(topo.face_vertex[inc_face_][k]);
     a.origin[k] = a.next[k] = k;
+    if (!incident_[k].allFinite()) return false;  // what clip() carries over is finite
   }
   a.count = 4;
   std::array<int, 4> side_axis{};
@@ -261,7 +264,7 @@ FeatureId FaceClipper::id_of(int i, const Vec& on_ref) const {
   id.reference_on_b = !ref_is_a_;
   id.reference = ref_face_;
   for (int k = 0; k < 4; ++k)
-    if (incident_[k] == p) {
+    if (incident_[k].x() == p.x() && incident_[k].y() == p.y() && incident_[k].z() == p.z()) {
       id.kind = FeatureKind::face_vertex;
       id.incident = topo.face_vertex[inc_face_][k];
       return id;
