@@ -52,10 +52,8 @@ namespace {
 // hull::clip_polygon for a unit plane n . x = d, label 4 + j (the same
 // classification and crossings): keeps the part with n . x - d <= tol.
 // False on a non-finite crossing (the general path then answers).
-// `distance(x)`: the signed distance n . x - d (a general plane, or an
-// axis-aligned one in the reference box's own frame: one coordinate).
-template <class Distance>
-bool clip(const Polygon& in, const Distance& distance, int label, double tol, Polygon& out) {
+// `dist[i]`: in.p[i]'s signed distance n . x - d.
+bool clip(const Polygon& in, const double* dist, int label, double tol, Polygon& out) {
   out.count = 0;
   const auto side = [&](double s) { return s > tol ? 1 : (s < -tol ? -1 : 0); };
   const auto crossing = [](const Vec& b, double db, const Vec& f, double df) {
@@ -73,10 +71,10 @@ bool clip(const Polygon& in, const Distance& distance, int label, double tol, Po
   };
   if (in.count == 0) return true;
   if (in.count <= 2) {
-    const double d0 = distance(in.p[0]);
+    const double d0 = dist[0];
     const int s0 = side(d0);
     if (in.count == 1) return s0 == 1 || emit(in.p[0], in.origin[0], in.next[0]);
-    const double d1 = distance(in.p[1]);
+    const double d1 = dist[1];
     const int s1 = side(d1);
     const int on = 8 + in.next[0];
     if (s0 != 1 && !emit(in.p[0], in.origin[0], in.next[0])) return false;
@@ -84,10 +82,10 @@ bool clip(const Polygon& in, const Distance& distance, int label, double tol, Po
     if (s0 == 1 && s1 == -1 && !emit(crossing(in.p[1], d1, in.p[0], d0), on, in.next[0], true)) return false;
     return s1 == 1 || emit(in.p[1], in.origin[1], in.next[1]);
   }
-  double d_cur = distance(in.p[0]);
+  double d_cur = dist[0];
   for (int i = 0; i < in.count; ++i) {
     const int j = i + 1 == in.count ? 0 : i + 1;
-    const double d_next = distance(in.p[j]);
+    const double d_next = dist[j];
     const int s_cur = side(d_cur), s_next = side(d_next);
     const int on = 8 + in.next[i];
     if (s_cur != 1 && !emit(in.p[i], in.origin[i], s_cur == 0 && s_next == 1 ? label : in.next[i])) return false;
@@ -198,21 +196,27 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
   }
   Polygon* src = &a;
   Polygon* dst = &b;
+  // A plane no point lies beyond (by more than the tolerance) leaves the
+  // polygon as it is, provenance included: that pass is skipped.
+  std::array<double, kMaxPolygon> dist;
   for (int k = 0; k < 4 && src->count > 0; ++k) {
-    bool finite = true;
+    const double d = side_offset_[k];
+    bool beyond = false;
     if (axis_aligned_) {
       const int i = side_axis[k];
-      const double d = side_offset_[k];
-      if (side_normal_[k][i] > 0.0)
-        finite = clip(*src, [&](const Vec& x) { return x[i] - d; }, 4 + k, pair_.tolerance, *dst);
-      else
-        finite = clip(*src, [&](const Vec& x) { return -x[i] - d; }, 4 + k, pair_.tolerance, *dst);
+      const double sign = side_normal_[k][i];
+      for (int m = 0; m < src->count; ++m) {
+        dist[m] = (sign > 0.0 ? src->p[m][i] : -src->p[m][i]) - d;
+        beyond = beyond || dist[m] > pair_.tolerance;
+      }
     } else {
-      const Vec& sn = side_normal_[k];
-      const double d = side_offset_[k];
-      finite = clip(*src, [&](const Vec& x) { return sn.dot(x) - d; }, 4 + k, pair_.tolerance, *dst);
+      for (int m = 0; m < src->count; ++m) {
+        dist[m] = side_normal_[k].dot(src->p[m]) - d;
+        beyond = beyond || dist[m] > pair_.tolerance;
+      }
     }
-    if (!finite) return false;
+    if (!beyond) continue;
+    if (!clip(*src, dist.data(), 4 + k, pair_.tolerance, *dst)) return false;
     std::swap(src, dst);
   }
   clipped_ = src;
