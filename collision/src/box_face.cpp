@@ -99,11 +99,10 @@ bool clip(const Polygon& in, const double* dist, int label, double tol, Polygon&
   return true;
 }
 
-// The first of `count` values within `tie` of the largest (manifold.cpp's
-// first_near_largest).
-int first_near_largest(const double* value, int count, double tie) {
-  double best = -std::numeric_limits<double>::infinity();
-  for (int i = 0; i < count; ++i) best = std::max(best, value[i]);
+// The first of `count` values within `tie` of the largest, `best`
+// (manifold.cpp's first_near_largest; the caller takes the largest as it
+// fills the values, in the same order).
+int first_near_largest(const double* value, int count, double tie, double best) {
   for (int i = 0; i < count; ++i)
     if (value[i] >= best - tie) return i;
   return 0;
@@ -116,26 +115,32 @@ int first_near_largest(const double* value, int count, double tie) {
 int reduce(const Candidate* c, int count, const Vec& n, double depth_tie, double length_tie,
            std::array<int, kMaxContactPoints>& keep) {
   if (count == 0) return 0;
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
   std::array<double, kMaxPolygon> value;
-  for (int i = 0; i < count; ++i) value[i] = -c[i].separation;
-  const int i0 = first_near_largest(value.data(), count, depth_tie);
+  double best = kNone;
+  for (int i = 0; i < count; ++i) best = std::max(best, value[i] = -c[i].separation);
+  const int i0 = first_near_largest(value.data(), count, depth_tie, best);
   keep[0] = i0;
   if (count == 1) return 1;
   const Vec p0 = c[i0].on_b;
-  for (int i = 0; i < count; ++i) value[i] = (c[i].on_b - p0).norm();
-  const int i1 = first_near_largest(value.data(), count, length_tie);
+  best = kNone;
+  for (int i = 0; i < count; ++i) best = std::max(best, value[i] = (c[i].on_b - p0).norm());
+  const int i1 = first_near_largest(value.data(), count, length_tie, best);
   const double far = (c[i1].on_b - p0).squaredNorm();
   if (!(far > 0.0)) return 1;
   keep[1] = i1;
   const Vec p1 = c[i1].on_b;
   std::array<double, kMaxPolygon> area, negated;
+  double best_area = kNone, best_negated = kNone;
   for (int i = 0; i < count; ++i) {
     area[i] = (p0 - c[i].on_b).cross(p1 - c[i].on_b).dot(n);
     negated[i] = -area[i];
+    best_area = std::max(best_area, area[i]);
+    best_negated = std::max(best_negated, negated[i]);
   }
   const double min_area = 1e-9 * far, area_tie = length_tie * std::sqrt(far);
-  const int i2 = first_near_largest(area.data(), count, area_tie);
-  const int i3 = first_near_largest(negated.data(), count, area_tie);
+  const int i2 = first_near_largest(area.data(), count, area_tie, best_area);
+  const int i3 = first_near_largest(negated.data(), count, area_tie, best_negated);
   int kept = 2;
   if (area[i2] > min_area) keep[kept++] = i2;
   if (negated[i3] > min_area) keep[kept++] = i3;
