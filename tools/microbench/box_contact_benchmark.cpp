@@ -228,7 +228,7 @@ int verify(long pairs) {
   const auto random_rotation = [&] {
     return Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
   };
-  long mismatches = 0;
+  long mismatches = 0, with_points = 0, face_of_b = 0;
   for (long k = 0; k < pairs; ++k) {
     const int family = static_cast<int>(k % 4);
     const double margin = (k / 4) % 2 ? 0.05 * h(rng) : 0.0;
@@ -251,6 +251,8 @@ int verify(long pairs) {
     ContactSettings general = s;
     general.box_box_path = false;
     const ContactResult fast = contact(a, pa, b, pb, nullptr, s), slow = contact(a, pa, b, pb, nullptr, general);
+    with_points += fast.count > 0;
+    face_of_b += fast.path == ContactPath::face_b;
     if (!same_answer(fast, slow, size)) {
       if (++mismatches <= 10)
         std::printf("mismatch: pair %ld family %d margin %g: path %d/%d count %d/%d distance %.17g/%.17g\n", k, family,
@@ -258,7 +260,8 @@ int verify(long pairs) {
                     fast.distance, slow.distance);
     }
   }
-  std::printf("%ld pairs, %ld mismatches between the box path and the general path\n", pairs, mismatches);
+  std::printf("%ld pairs (%ld with points, %ld on a face of B), %ld mismatches between the box path and the general path\n",
+              pairs, with_points, face_of_b, mismatches);
   return mismatches == 0 ? 0 : 1;
 }
 
