@@ -183,8 +183,11 @@ enum class Built { answered, general, exact_normal };
 // pair), the deepest first.
 void emit(Candidate* c, int count, const Vec& normal, const Pair& p, Local& out) {
   int kept = 0;
-  for (int i = 0; i < count; ++i)
-    if (c[i].separation <= p.keep) c[kept++] = c[i];
+  for (int i = 0; i < count; ++i) {
+    if (!(c[i].separation <= p.keep)) continue;
+    if (kept != i) c[kept] = c[i];
+    ++kept;
+  }
   std::array<int, kMaxContactPoints> keep{};
   if (kept <= kMaxContactPoints) {
     out.count = kept;
