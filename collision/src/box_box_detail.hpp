@@ -132,6 +132,7 @@ class FaceClipper {
   std::array<Vec, 4> ref_corner_;
   std::array<Vec, 4> side_normal_;  // side planes of the reference face's edges
   std::array<double, 4> side_offset_;
+  std::array<int, 4> side_axis_{};  // axis_aligned_: side plane k is +-e_i, i = side_axis_[k]
   const Polygon* clipped_ = nullptr;
 };
 

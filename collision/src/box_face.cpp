@@ -186,13 +186,12 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
     if (!incident_[k].allFinite()) return false;  // what clip() carries over is finite
   }
   a.count = 4;
-  std::array<int, 4> side_axis{};
   for (int k = 0; k < 4; ++k) {
     const Vec edge_cross = (ref_corner_[(k + 1) & 3] - ref_corner_[k]).cross(u_);
     if (axis_aligned_) {  // along one axis: its unit vector is what normalized() gives, bit for bit
       const int i = edge_cross.x() != 0.0 ? 0 : (edge_cross.y() != 0.0 ? 1 : 2);
       HEDRA_ASSERT(edge_cross.squaredNorm() == edge_cross[i] * edge_cross[i]);
-      side_axis[k] = i;
+      side_axis_[k] = i;
       side_normal_[k] = (edge_cross[i] > 0.0 ? 1.0 : -1.0) * Vec::Unit(i);
     } else {
       side_normal_[k] = edge_cross.normalized();
@@ -208,7 +207,7 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
     const double d = side_offset_[k];
     bool beyond = false;
     if (axis_aligned_) {
-      const int i = side_axis[k];
+      const int i = side_axis_[k];
       const double sign = side_normal_[k][i];
       for (int m = 0; m < src->count; ++m) {
         dist[m] = (sign > 0.0 ? src->p[m][i] : -src->p[m][i]) - d;
@@ -280,7 +279,8 @@ FeatureId FaceClipper::id_of(int i, const Vec& on_ref) const {
     }
   double best_side = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 4; ++k) {
-    const double d = std::abs(side_normal_[k].dot(p) - side_offset_[k]);
+    const double along = axis_aligned_ ? side_normal_[k][side_axis_[k]] * p[side_axis_[k]] : side_normal_[k].dot(p);
+    const double d = std::abs(along - side_offset_[k]);
     if (d < best_side) {
       best_side = d;
       id.clip = topo.face_edge[ref_face_][k];
