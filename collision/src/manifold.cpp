@@ -12,6 +12,7 @@
 
 #include "face_certificate.hpp"
 #include "segment_box.hpp"
+#include "box_box.hpp"
 
 namespace hedra::collision {
 
@@ -1741,6 +1742,12 @@ ContactResult contact_typed(const Shape& shape_a, const SA& a, const Pose& pose_
                             const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
   constexpr bool curved_a = std::is_same_v<SA, Capsule> || std::is_same_v<SA, Cylinder> || std::is_same_v<SA, Cone>;
   constexpr bool curved_b = std::is_same_v<SB, Capsule> || std::is_same_v<SB, Cylinder> || std::is_same_v<SB, Cone>;
+  if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Box>) {
+    ContactResult r;  // box_box.cpp; what it hands back, the general path answers
+    if (detail::box_box_contact(a, pose_a, b, pose_b, cache, settings, r)) return r;
+  } else if (cache) {
+    cache->box.valid = false;  // the box memory is for box pairs only
+  }
   if constexpr (is_polytope_v<SA> && is_polytope_v<SB>) {
     if (!solid(a) || !solid(b)) return single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
     return polytope_contact(shape_a, a, pose_a, shape_b, b, pose_b, cache, settings);
@@ -1761,7 +1768,8 @@ ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const 
                       const ContactSettings& settings) {
   // valid(), not only finite(): translations beyond max_coordinate are invalid in
   // every query.
-  if (!pose_a.valid() || !pose_b.valid() || !validate(a).ok() || !validate(b).ok() ||
+  // is_valid(): validate()'s predicate without building its message.
+  if (!pose_a.valid() || !pose_b.valid() || !is_valid(a) || !is_valid(b) ||
       !pair_in_range(a, pose_a, b, pose_b) || !std::isfinite(settings.contact_distance)) {
     ContactResult out;
     out.status = Status::invalid_input;

@@ -20,6 +20,9 @@
 //   - ok answers keep point_b - point_a = distance * normal and a unit normal;
 //   - cached frames: contact() and penetration() warm over two nearby
 //     frames agree with cold ones (contact: within the face bias);
+//   - box pairs: contact()'s box path equals the general polytope path, a
+//     still pair's cached answer equals its first, a moved one's warm answer
+//     the cold one within the face bias;
 //   - contact(): at most four points, every point and depth finite; when it
 //     and penetration() both answer ok, it says intersecting when the pair
 //     is deeper than the face bias of manifold.hpp, and a separation it
@@ -58,6 +61,7 @@
 #include <variant>
 #include <vector>
 
+#include "../../collision/src/box_box.hpp"
 #include "fuzz_input.hpp"
 
 namespace {
@@ -510,6 +514,61 @@ void check_halfspace(const Shape& b, const Pose& pose_a, const Pose& pose_b, dou
                    "halfspace %.17g, the plane as a box %.17g", p.distance, via_box.distance);
 }
 
+// Box pairs (collision/src/box_box.cpp): the box path's answer `c` against
+// the general polytope path's on the same pair (the same status, path and
+// points within tol), and cached frames: the pair again (the answer from the
+// cache, equal bit for bit), then B moved by 1e-7 of the size (rebuilt: the
+// cold answer within the face bias).
+void check_box_pair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                    const hedra::collision::ContactResult& c, double tol) {
+  hedra::collision::ContactSettings general;
+  general.box_box_path = false;
+  const hedra::collision::ContactResult g = contact(a, pose_a, b, pose_b, nullptr, general);
+  HEDRA_FUZZ_CHECK(g.status == c.status && g.path == c.path && g.count == c.count,
+                   "box path %s %s %d points, general path %s %s %d", to_string(c.status), to_string(c.path), c.count,
+                   to_string(g.status), to_string(g.path), g.count);
+  if (c.status != Status::ok) return;
+  HEDRA_FUZZ_CHECK(std::fabs(g.distance - c.distance) <= tol, "box path distance %.17g, general path %.17g",
+                   c.distance, g.distance);
+  for (int k = 0; k < c.count; ++k) {  // in either order (equally deep points: rounding orders them)
+    bool found = false;
+    for (int j = 0; j < g.count; ++j)
+      found = found || ((g.points[j].point - c.points[k].point).norm() <= tol &&
+                        std::fabs(g.points[j].depth - c.points[k].depth) <= tol && g.points[j].id == c.points[k].id);
+    HEDRA_FUZZ_CHECK(found, "box path point %d differs from the general path's", k);
+  }
+  hedra::collision::ContactCache cache;
+  const hedra::collision::ContactSettings settings;
+  const auto& box_a = std::get<hedra::collision::Box>(a);
+  const auto& box_b = std::get<hedra::collision::Box>(b);
+  hedra::collision::ContactResult first, again;
+  if (!hedra::collision::detail::box_box_contact(box_a, pose_a, box_b, pose_b, &cache, settings, first)) return;
+  // (Answers built on penetration()'s normal are not kept: GJK's warm start
+  // moves with the cache.)
+  if (!cache.box.valid) return;
+  const bool recycled = hedra::collision::detail::box_box_contact(box_a, pose_a, box_b, pose_b, &cache, settings, again);
+  HEDRA_FUZZ_CHECK(recycled && again.stats.cache_hit, "a still box pair not answered from its cache");
+  HEDRA_FUZZ_CHECK(again.status == first.status && again.count == first.count && again.distance == first.distance &&
+                       again.normal == first.normal,
+                   "a still box pair's cached answer differs (%d / %d points, %.17g / %.17g)", again.count, first.count,
+                   again.distance, first.distance);
+  for (int k = 0; k < again.count; ++k)
+    HEDRA_FUZZ_CHECK(again.points[k].point == first.points[k].point && again.points[k].depth == first.points[k].depth,
+                     "a still box pair's cached point %d differs", k);
+  const double size = std::max(bounding_radius(a), bounding_radius(b));
+  Pose moved = pose_b;
+  moved.translation += Vec(1e-7, -2e-7, 3e-7) * size;
+  if (!moved.valid()) return;
+  const hedra::collision::ContactResult warm = contact(a, pose_a, b, moved, &cache);
+  const hedra::collision::ContactResult cold = contact(a, pose_a, b, moved);
+  const double bias = settings.relative_bias * std::fabs(cold.distance) + settings.absolute_bias * 2.0 * size;
+  HEDRA_FUZZ_CHECK(warm.status == cold.status && warm.count <= hedra::collision::kMaxContactPoints,
+                   "a moved box pair: warm %s, cold %s", to_string(warm.status), to_string(cold.status));
+  if (warm.status == Status::ok && cold.status == Status::ok)
+    HEDRA_FUZZ_CHECK(std::fabs(warm.distance - cold.distance) <= bias + tol,
+                     "a moved box pair: warm distance %.17g, cold %.17g", warm.distance, cold.distance);
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   hedra::fuzz::FuzzInput in(data, size);
   Shape a, b;
@@ -712,5 +771,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                        c_ab.distance);
   }
   check_cached_frames(a, pose_a, b, pose_b, motion, tol, size_scale);
+  if (std::holds_alternative<hedra::collision::Box>(a) && std::holds_alternative<hedra::collision::Box>(b))
+    check_box_pair(a, pose_a, b, pose_b, c_ab, tol);
   return 0;
 }

@@ -63,6 +63,9 @@
 //     clipped like a capsule's. Otherwise one point.
 //   * every other pair (spheres, curved against curved, point/segment/flat
 //     hulls): one point from penetration().
+// Two boxes take box_box.cpp's path: the polytope path above written for the
+// box (SAT from the relative rotation, no support call), the same answers
+// (ContactSettings::box_box_path = false runs the general one).
 // Margins (rounded shapes): every point's depth is the gap of the rounded
 // surfaces on its line along the normal (the reference side its radius out
 // of the face; the incident side where the line leaves the incident core
@@ -219,7 +222,28 @@ struct ContactSettings {
   // choice (deepest first) every frame. A simulator whose solver does not
   // hold points itself may want about 1e-6 (docs/contacts.md).
   double hold = 0.0;
+  // Box pairs take their own path (box_box.cpp: SAT in closed form, the same
+  // answers); false runs the general polytope path on them (for comparisons).
+  bool box_box_path = true;
   PenetrationSettings penetration;  // for the paths that use penetration()
+};
+
+// Box pairs (box_box.cpp): the last answer in A's frame with the relative
+// pose and inputs it was computed for. Used only when the new relative pose
+// and inputs are bit for bit the same (the answer is then the same: only its
+// world placement is redone); anything else rebuilds the manifold.
+struct BoxPairMemory {
+  bool valid = false;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Zero();  // B in A's frame
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  std::array<double, 12> inputs{};  // half extents, margins and settings it was computed with
+  ContactPath path = ContactPath::none;
+  double distance = 0.0;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // A's frame
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero(), point_b = Eigen::Vector3d::Zero();
+  int count = 0;
+  std::array<ContactPoint, kMaxContactPoints> points{};  // A's frame
+  int edge_pairs = 0, clipped_points = 0;                 // its ContactStats
 };
 
 struct ContactCache {
@@ -234,10 +258,12 @@ struct ContactCache {
   // The last answer's points (ContactSettings::hold).
   int kept_count = 0;
   std::array<FeatureId, kMaxContactPoints> kept{};
+  BoxPairMemory box;  // box pairs: the last answer (box_box.cpp)
 };
 
 struct ContactStats {
-  bool cache_hit = false;  // answered from the cached face axis (separated, or certified exact)
+  bool cache_hit = false;  // answered from the cached face axis (separated, or certified exact), or a box
+                           // pair's last answer (its relative pose bit for bit the same: ContactCache::box)
   int edge_pairs = 0;      // SAT edge pairs that passed the Gauss-map test
   int clipped_points = 0;  // points after clipping, before the contact-distance filter and reduction
 };
