@@ -6,7 +6,7 @@
 //     by Gottschalk's OBB formulas), the same formulas as sat.cpp's box
 //     case, so the same separations bit for bit; no support call.
 //   * The axis chosen with the face bias and the cache's kept face of B
-//     (manifold.cpp's choose_axis, the same rule).
+//     (contact_choice.hpp's choose_axis, shared with manifold.cpp).
 //   * Face contact: the incident face is the other box's face most
 //     anti-parallel to the reference normal (the largest |m_j| of the normal
 //     in its frame); its 4 corners are clipped by the reference face's 4 side
@@ -33,6 +33,7 @@
 #include <limits>
 
 #include "box_box_detail.hpp"
+#include "contact_choice.hpp"
 
 namespace hedra::collision::detail {
 namespace box_box {
@@ -115,22 +116,7 @@ void edge_axes(const Pair& p, double parallel_tolerance, double floor, Axes& out
   out.edge.feature_b = topo.edge_between[8 * vb + (vb | (1u << best_j))];
 }
 
-// manifold.cpp's choose_axis: faces before edges, A's face the incumbent,
-// each challenger beating it by the bias; B's face kept while the cache
-// says it was last frame's reference and it still holds.
-SatAxis choose_axis(const Axes& c, const ContactCache* cache, const ContactSettings& settings, double scale) {
-  const auto bias = [&](double sep) { return settings.relative_bias * std::abs(sep) + settings.absolute_bias * scale; };
-  const auto pick = [&](const SatAxis& incumbent, const SatAxis& challenger) {
-    const SatAxis* best = &incumbent;
-    if (challenger.separation > incumbent.separation + bias(incumbent.separation)) best = &challenger;
-    if (c.edge.kind == SatAxisKind::edge && c.edge.separation > best->separation + bias(best->separation))
-      best = &c.edge;
-    return best;
-  };
-  const bool keep_b = cache && cache->axis == SatAxisKind::face_b && cache->feature == c.face_b.feature_b;
-  if (keep_b && pick(c.face_b, c.face_a) == &c.face_b) return c.face_b;
-  return *pick(c.face_a, c.face_b);
-}
+using detail::choose_axis;  // contact_choice.hpp, shared with manifold.cpp
 // ---- edge contact ------------------------------------------------------------
 
 // Closest points of segments p0 + s u and q0 + t v, s, t in [0, 1]
@@ -465,7 +451,7 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
   bool recyclable = true;
   const auto finish = [&] {
     HEDRA_ASSERT(local.count >= 0 && local.count <= kMaxContactPoints);
-    HEDRA_ASSERT(std::abs(local.normal.squaredNorm() - 1.0) <= 1e-9);  // a unit normal, A toward B
+    HEDRA_ASSERT(std::abs(local.normal.squaredNorm() - 1.0) <= 1e-9);            // a unit normal, A toward B
     HEDRA_ASSERT(local.count == 0 || local.points[0].depth == -local.distance);  // the deepest first
     place(local, pose_a, out);
     out.stats.edge_pairs = axes.edge_pairs;

@@ -116,7 +116,6 @@ class FaceClipper {
   Index incident() const { return inc_face_; }
 
  private:
-
   const BoxTopology& topo_ = topology();
   const Pair& pair_;
   const Side& ref_;
@@ -125,8 +124,8 @@ class FaceClipper {
   bool ref_is_a_;
   const Vec* along_;
   bool axis_aligned_ = false;  // a face of A swept along its normal: side planes +-e_i . x = h_i
-  Vec n_;  // A's frame, out of the reference face
-  Vec u_;  // the sweep: along_ or n_
+  Vec n_;                      // A's frame, out of the reference face
+  Vec u_;                      // the sweep: along_ or n_
   Index inc_face_ = 0;
   std::array<Vec, 4> incident_;  // the incident face's corners (A's frame)
   std::array<Vec, 4> ref_corner_;

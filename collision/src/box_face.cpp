@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "box_box_detail.hpp"
+#include "contact_choice.hpp"
 
 namespace hedra::collision::detail::box_box {
 
@@ -146,7 +147,6 @@ int reduce(const Candidate* c, int count, const Vec& n, double depth_tie, double
   if (negated[i3] > min_area) keep[kept++] = i3;
   return kept;
 }
-
 
 void FaceClipper::incident_face() {
   const BoxTopology& topo = topo_;
@@ -363,31 +363,7 @@ int FaceClipper::hold_last(const Candidate* c, const int* from, int count, std::
   return kept;
 }
 
-// manifold.cpp's segment_exit: how far the ray p + t d (d unit, p within r
-// of the segment a-b) runs inside the capsule of radius r about a-b (the
-// ball at a and the cylinder; the ball at b is the next edge's ball at a).
-namespace {
-
-double segment_exit(const Vec& p, const Vec& d, const Vec& a, const Vec& b, double r) {
-  double t = -std::numeric_limits<double>::infinity();
-  const Vec w = p - a;
-  const double bq = d.dot(w), disc = bq * bq - (w.squaredNorm() - r * r);
-  if (disc >= 0.0) t = -bq + std::sqrt(disc);
-  const Vec ab = b - a;
-  const double len = ab.norm();
-  if (!(len > 0.0)) return t;
-  const Vec u = ab / len;
-  const Vec dp = d - d.dot(u) * u, wp = w - w.dot(u) * u;
-  const double qa = dp.squaredNorm(), qb = dp.dot(wp), qd = qb * qb - qa * (wp.squaredNorm() - r * r);
-  if (qa > 0.0 && qd >= 0.0) {
-    const double tc = (-qb + std::sqrt(qd)) / qa;
-    const double along = (w + tc * d).dot(u);
-    if (along >= 0.0 && along <= len) t = std::max(t, tc);
-  }
-  return t;
-}
-
-}  // namespace
+using detail::segment_exit;  // contact_choice.hpp, shared with manifold.cpp
 
 // manifold.cpp's exit_distance for a box: how far the ray p + t d (p on face
 // f of the core, A's frame) runs inside the core grown by r: the last exit of
@@ -415,7 +391,8 @@ double exit_distance(const Side& box, Index f, const Vec& p_in, const Vec& d_in,
     t = std::max(t, ts);
   }
   for (int k = 0; k < 4; ++k)
-    t = std::max(t, segment_exit(p, d, corner(h, topo.face_vertex[f][k]), corner(h, topo.face_vertex[f][(k + 1) & 3]), r));
+    t = std::max(t,
+                 segment_exit(p, d, corner(h, topo.face_vertex[f][k]), corner(h, topo.face_vertex[f][(k + 1) & 3]), r));
   return t;
 }
 

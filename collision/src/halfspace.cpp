@@ -151,12 +151,12 @@ struct HullCandidates {
   int count() const { return static_cast<int>(hull.vertex_count()); }
   Candidate at(int i) const {
     const Eigen::Vector3d& v = hull.vertex(static_cast<hull::Index>(i));
-    return {v + hull.offset(), dot3(f.u, v) + base, feature(FeatureKind::face_vertex, hull::kInvalidIndex,
-                                                             static_cast<std::uint32_t>(i))};
+    return {v + hull.offset(), dot3(f.u, v) + base,
+            feature(FeatureKind::face_vertex, hull::kInvalidIndex, static_cast<std::uint32_t>(i))};
   }
   int find(const FeatureId& id) const {
     return id.kind == FeatureKind::face_vertex && id.incident < hull.vertex_count() ? static_cast<int>(id.incident)
-                                                                                     : -1;
+                                                                                    : -1;
   }
 };
 
@@ -331,7 +331,7 @@ bool leaves_at(const Shape& b, const Frame& f, const Candidate& c) {
 // the segment, else to the other end's ball. Returned beyond the ball's r.
 double capsule_drop(const Capsule& capsule, const Frame& f, const Candidate& c) {
   const double a_z = c.p.z() > 0.0 ? -1.0 : 1.0;  // a = (0, 0, a_z)
-  const double along = -f.u.z() * a_z;             // (-u) . a: how fast the line runs along the axis
+  const double along = -f.u.z() * a_z;            // (-u) . a: how fast the line runs along the axis
   if (!(along > 0.0)) return 0.0;
   const double r = f.rounding, length = 2.0 * capsule.half_length;
   const double across = f.across;  // |u x a|
@@ -391,8 +391,8 @@ double drop_below(const Shape& b, const Pose& pose_b, const Frame& f, const Eige
 }
 
 template <class Candidates>
-ContactResult contact_from(const Candidates& c, const Frame& f, const Shape& b, const Pose& pose_b,
-                           ContactCache* cache, const ContactSettings& settings, ContactPath many_path) {
+ContactResult contact_from(const Candidates& c, const Frame& f, const Shape& b, const Pose& pose_b, ContactCache* cache,
+                           const ContactSettings& settings, ContactPath many_path) {
   ContactResult out;
   out.normal = f.n;
   const double threshold = settings.contact_distance + settings.penetration.touching_band * f.size;
@@ -433,8 +433,8 @@ ContactResult contact_from(const Candidates& c, const Frame& f, const Shape& b, 
     // B's surface on the line along n through q: q itself for B's support
     // and features that face down, otherwise measured.
     if (chosen[k] != deepest && !leaves_at(b, f, ck)) {
-      double drop = std::holds_alternative<Capsule>(b) ? capsule_drop(std::get<Capsule>(b), f, ck)
-                                                        : sharp_drop(b, f, ck);
+      double drop =
+          std::holds_alternative<Capsule>(b) ? capsule_drop(std::get<Capsule>(b), f, ck) : sharp_drop(b, f, ck);
       if (drop < 0.0) drop = drop_below(b, pose_b, f, q);  // rounded shapes, cones: a ray from below
       q -= drop * f.n;
       g -= drop;
@@ -552,10 +552,10 @@ ContactResult contact(const Halfspace& a, const Pose& pose_a, const Shape& b, co
                         : (std::holds_alternative<Cylinder>(b) && !(std::get<Cylinder>(b).radius > tie)) ||
                               (std::holds_alternative<Cone>(b) && !(std::get<Cone>(b).radius > tie));
   if (thin) merge_coincident(list, tie);
-    const ContactPath path = std::holds_alternative<Box>(b)       ? ContactPath::face_a
-                             : std::holds_alternative<Capsule>(b) ? ContactPath::segment
-                             : std::holds_alternative<Sphere>(b)  ? ContactPath::single_point
-                                                                  : ContactPath::cap;
+  const ContactPath path = std::holds_alternative<Box>(b)       ? ContactPath::face_a
+                           : std::holds_alternative<Capsule>(b) ? ContactPath::segment
+                           : std::holds_alternative<Sphere>(b)  ? ContactPath::single_point
+                                                                : ContactPath::cap;
   return contact_from(ListCandidates{list}, f, b, pose_b, cache, settings, path);
 }
 
@@ -564,8 +564,8 @@ RaycastResult raycast(const Halfspace& h, const Pose& pose, const Eigen::Vector3
   (void)settings;
   RaycastResult out;
   if (!is_valid(h) || !pose.valid() || !origin.allFinite() || !direction.allFinite() ||
-      !(max_fraction >= 0.0 && max_fraction <= max_coordinate) ||
-      origin.cwiseAbs().maxCoeff() > max_coordinate || direction.cwiseAbs().maxCoeff() > max_coordinate) {
+      !(max_fraction >= 0.0 && max_fraction <= max_coordinate) || origin.cwiseAbs().maxCoeff() > max_coordinate ||
+      direction.cwiseAbs().maxCoeff() > max_coordinate) {
     out.status = CastStatus::invalid_input;
     return out;
   }

@@ -10,9 +10,10 @@
 #include <new>
 #include <type_traits>
 
+#include "box_box.hpp"
+#include "contact_choice.hpp"
 #include "face_certificate.hpp"
 #include "segment_box.hpp"
-#include "box_box.hpp"
 
 namespace hedra::collision {
 
@@ -227,29 +228,7 @@ Index incident_face(const SatPolytope& inc, const Placement& inc_place, const Ve
   return face;
 }
 
-// How far the ray p + t d (d unit, p within r of the segment a-b) runs
-// inside the capsule of radius r around a-b: the later exit of the ball at
-// a and of the cylinder around a-b (where its exit lies between a and b).
-// The ball at b is the ball at a of the neighbouring edge (a capsule: call
-// it with the ends swapped too).
-double segment_exit(const Vec& p, const Vec& d, const Vec& a, const Vec& b, double r) {
-  double t = -std::numeric_limits<double>::infinity();
-  const Vec w = p - a;
-  const double bq = d.dot(w), disc = bq * bq - (w.squaredNorm() - r * r);
-  if (disc >= 0.0) t = -bq + std::sqrt(disc);
-  const Vec ab = b - a;
-  const double len = ab.norm();
-  if (!(len > 0.0)) return t;
-  const Vec u = ab / len;
-  const Vec dp = d - d.dot(u) * u, wp = w - w.dot(u) * u;
-  const double qa = dp.squaredNorm(), qb = dp.dot(wp), qd = qb * qb - qa * (wp.squaredNorm() - r * r);
-  if (qa > 0.0 && qd >= 0.0) {
-    const double tc = (-qb + std::sqrt(qd)) / qa;
-    const double along = (w + tc * d).dot(u);
-    if (along >= 0.0 && along <= len) t = std::max(t, tc);
-  }
-  return t;
-}
+using detail::segment_exit;  // contact_choice.hpp
 
 // How far the ray p + t d (p on face f of a core, d unit, A's frame) runs
 // inside the core grown by radius r. The grown core is the union of the
@@ -808,27 +787,7 @@ struct AxisCandidates {
   SatAxis face_a, face_b, edge;
 };
 
-// Face axes first, then the edge axis, each challenger beating the
-// incumbent by the bias; A's face is the incumbent. B's face is kept
-// instead when the pair's cache says it was the reference last frame and
-// it still holds with B's face as the incumbent: without that memory a
-// slide that carries the two faces' separations across the bias swaps the
-// reference face although the same faces touch, and renames every point.
-// (Only a choice of A's face is ever replaced so: were B's face not to
-// hold, the choice is the one without the cache.)
-SatAxis choose_axis(const AxisCandidates& c, const ContactCache* cache, const ContactSettings& settings, double scale) {
-  const auto bias = [&](double sep) { return settings.relative_bias * std::abs(sep) + settings.absolute_bias * scale; };
-  const auto pick = [&](const SatAxis& incumbent, const SatAxis& challenger) {
-    const SatAxis* best = &incumbent;
-    if (challenger.separation > incumbent.separation + bias(incumbent.separation)) best = &challenger;
-    if (c.edge.kind == SatAxisKind::edge && c.edge.separation > best->separation + bias(best->separation))
-      best = &c.edge;
-    return best;
-  };
-  const bool keep_b = cache && cache->axis == SatAxisKind::face_b && cache->feature == c.face_b.feature_b;
-  if (keep_b && pick(c.face_b, c.face_a) == &c.face_b) return c.face_b;
-  return *pick(c.face_a, c.face_b);
-}
+using detail::choose_axis;  // contact_choice.hpp: the face bias and B's kept face
 
 void remember(ContactCache* cache, const SatAxis& axis) {
   if (!cache) return;
@@ -1023,7 +982,8 @@ bool minkowski_facet(const PolytopePair& pp, const SatAxis& axis, double tol, de
   detail::FacetSide& inc_side = of_a ? b_side : a_side;
   const double sign_ref = of_a ? -1.0 : 1.0;  // A's side enters negated
   ref_side.count = 0;
-  for (const Index e : rm.face_edges(face)) ref_side.p[ref_side.count++] = sign_ref * ref_place.point(ref.vertex(rm.origin(e)));
+  for (const Index e : rm.face_edges(face))
+    ref_side.p[ref_side.count++] = sign_ref * ref_place.point(ref.vertex(rm.origin(e)));
   // The incident face's vertices at the support level (lowest along the
   // reference's outward normal), in the face's order.
   std::array<double, detail::kFacetCapacity> height;
@@ -1769,8 +1729,8 @@ ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const 
   // valid(), not only finite(): translations beyond max_coordinate are invalid in
   // every query.
   // is_valid(): validate()'s predicate without building its message.
-  if (!pose_a.valid() || !pose_b.valid() || !is_valid(a) || !is_valid(b) ||
-      !pair_in_range(a, pose_a, b, pose_b) || !std::isfinite(settings.contact_distance)) {
+  if (!pose_a.valid() || !pose_b.valid() || !is_valid(a) || !is_valid(b) || !pair_in_range(a, pose_a, b, pose_b) ||
+      !std::isfinite(settings.contact_distance)) {
     ContactResult out;
     out.status = Status::invalid_input;
     return out;

@@ -192,8 +192,8 @@ Pose pose_at(const Sweep& sweep, double t) {
   return {m.rotation_at(t), m.position_at(t)};
 }
 
-CastResult time_of_impact(const Shape& a, const Sweep& sweep_a, const Shape& b, const Sweep& sweep_b,
-                          GjkCache* cache, const ToiSettings& settings) {
+CastResult time_of_impact(const Shape& a, const Sweep& sweep_a, const Shape& b, const Sweep& sweep_b, GjkCache* cache,
+                          const ToiSettings& settings) {
   const bool valid = sweep_valid(sweep_a) && sweep_valid(sweep_b) && validate(a).ok() && validate(b).ok() &&
                      cast_detail::target_valid(settings.target_distance, settings.linear_slop) &&
                      pair_in_range(a, sweep_a.start, b, sweep_b.start);

@@ -77,8 +77,7 @@ double local_extent(const Shape& shape, double radius) {
 }
 
 bool overlaps(const double* lo, const double* hi, const Vec& qlo, const Vec& qhi) {
-  return lo[0] <= qhi[0] && qlo[0] <= hi[0] && lo[1] <= qhi[1] && qlo[1] <= hi[1] && lo[2] <= qhi[2] &&
-         qlo[2] <= hi[2];
+  return lo[0] <= qhi[0] && qlo[0] <= hi[0] && lo[1] <= qhi[1] && qlo[1] <= hi[1] && lo[2] <= qhi[2] && qlo[2] <= hi[2];
 }
 
 double surface_area(const double* lo, const double* hi) {
@@ -428,10 +427,10 @@ void World::query_candidates(std::size_t begin, std::size_t end, const PairSetti
       // Shapes and poses were validated when they entered the world; the
       // pair's extent is settled by the radii unless both are tiny.
       const double gap = settings.max_distance + band;
-      const bool apart = std::max(radius_[i], radius_[j]) >= min_pair_extent
-                             ? detail::separated_beyond_unchecked(shapes_[i], poses_[i], shapes_[j], poses_[j], gap,
-                                                                  settings.gjk)
-                             : separated_beyond(shapes_[i], poses_[i], shapes_[j], poses_[j], gap, settings.gjk);
+      const bool apart =
+          std::max(radius_[i], radius_[j]) >= min_pair_extent
+              ? detail::separated_beyond_unchecked(shapes_[i], poses_[i], shapes_[j], poses_[j], gap, settings.gjk)
+              : separated_beyond(shapes_[i], poses_[i], shapes_[j], poses_[j], gap, settings.gjk);
       if (apart) continue;
     }
     if (query_pair(shapes_[i], poses_[i], shapes_[j], poses_[j], band, settings, contact_settings, result))
@@ -467,8 +466,7 @@ void World::pairs(const PairSettings& settings, std::vector<PairResult>& out) {
   std::size_t total = 0;
   for (std::size_t c = 0; c < chunks; ++c) total += chunks_[c].results.size();
   out.reserve(total);
-  for (std::size_t c = 0; c < chunks; ++c)
-    out.insert(out.end(), chunks_[c].results.begin(), chunks_[c].results.end());
+  for (std::size_t c = 0; c < chunks; ++c) out.insert(out.end(), chunks_[c].results.begin(), chunks_[c].results.end());
   stats_.pairs = out.size();
   stats_.serial_seconds += std::chrono::duration<double>(Clock::now() - merge_start).count();
   stats_.query_seconds = std::chrono::duration<double>(Clock::now() - updated).count();

@@ -21,7 +21,8 @@ std::string scene(const std::string& bodies, const std::string& queries) {
 }
 
 // Balls on the x axis whose byte order (B < Z10 < Z9 < a) is not the file's.
-const std::string kLine = R"({"a": {"shape": "ball", "position": [0, 0, 0]}, "B": {"shape": "ball", "position": [1.5, 0, 0]},
+const std::string kLine =
+    R"({"a": {"shape": "ball", "position": [0, 0, 0]}, "B": {"shape": "ball", "position": [1.5, 0, 0]},
  "Z9": {"shape": "ball", "position": [3, 0, 0]}, "Z10": {"shape": "ball", "position": [10, 0, 0]}})";
 
 // Drops the timings, which differ from run to run.
@@ -31,14 +32,13 @@ nlohmann::json without_times(nlohmann::json document) {
 }
 
 TEST_F(AllPairsCli, PairsAreNamedInByteOrderAndSortedByAThenB) {
-  const std::string file =
-      write("line.json", scene(kLine, R"([{"type": "distance", "pairs": "all", "max_distance": 5},
+  const std::string file = write("line.json", scene(kLine, R"([{"type": "distance", "pairs": "all", "max_distance": 5},
         {"a": "a", "b": "B", "type": "penetration"}, {"type": "penetration", "pairs": "all"}])"));
   const nlohmann::json doc = run_json({"query", file, "--json"});
-  const std::vector<std::pair<std::string, std::string>> expected = {
-      {"B", "Z9"}, {"B", "a"}, {"Z10", "Z9"}, {"Z9", "a"},  // query 0, distance <= 5
-      {"a", "B"},                                           // query 1, as written
-      {"B", "Z9"}, {"B", "a"}};                             // query 2, overlapping
+  const std::vector<std::pair<std::string, std::string>> expected = {{"B", "Z9"}, {"B", "a"}, {"Z10", "Z9"},
+                                                                     {"Z9", "a"},  // query 0, distance <= 5
+                                                                     {"a", "B"},   // query 1, as written
+                                                                     {"B", "Z9"}, {"B", "a"}};  // query 2, overlapping
   ASSERT_EQ(doc["results"].size(), expected.size()) << doc.dump();
   for (std::size_t i = 0; i < expected.size(); ++i) {
     EXPECT_EQ(doc["results"][i]["a"], expected[i].first) << i;
@@ -61,7 +61,8 @@ TEST_F(AllPairsCli, RecordsAreTheSameForAnyThreadCount) {
               "], \"orientation\": [1, 0.1, 0.05, " + std::to_string(0.01 * i) + "]}";
   }
   bodies += "}";
-  const std::string file = write("cubes.json", scene(bodies, R"([{"type": "contact", "pairs": "all", "max_distance": 0.01},
+  const std::string file =
+      write("cubes.json", scene(bodies, R"([{"type": "contact", "pairs": "all", "max_distance": 0.01},
      {"type": "penetration", "pairs": "all"}])"));
   const nlohmann::json one = without_times(run_json({"query", file, "--json", "--threads", "1"}));
   EXPECT_GT(one["results"].size(), 100u);
@@ -74,18 +75,22 @@ TEST_F(AllPairsCli, RecordsAreTheSameForAnyThreadCount) {
 }
 
 TEST_F(AllPairsCli, CheckComparesPairCount) {
-  const std::string good = write("good.json", scene(kLine, R"([{"type": "penetration", "pairs": "all", "expect": {"pair_count": 2}}])"));
+  const std::string good =
+      write("good.json", scene(kLine, R"([{"type": "penetration", "pairs": "all", "expect": {"pair_count": 2}}])"));
   const RunResult pass = run({"check", good});
   EXPECT_EQ(pass.exit_code, 0) << pass.out << pass.err;
   EXPECT_NE(pass.out.find("2 pairs within 0 among 4 bodies (expected 2)"), std::string::npos) << pass.out;
-  const std::string bad = write("bad.json", scene(kLine, R"([{"type": "contact", "pairs": "all", "max_distance": 5, "expect": {"pair_count": 3}}])"));
+  const std::string bad =
+      write("bad.json",
+            scene(kLine, R"([{"type": "contact", "pairs": "all", "max_distance": 5, "expect": {"pair_count": 3}}])"));
   const RunResult fail = run({"check", bad});
   EXPECT_EQ(fail.exit_code, 1) << fail.out << fail.err;
   EXPECT_NE(fail.out.find("FAIL"), std::string::npos);
 }
 
 TEST_F(AllPairsCli, CompareJudgesEveryAnsweredPair) {
-  const std::string file = write("cmp.json", scene(kLine, R"([{"type": "distance", "pairs": "all", "max_distance": 5}])"));
+  const std::string file =
+      write("cmp.json", scene(kLine, R"([{"type": "distance", "pairs": "all", "max_distance": 5}])"));
   const RunResult r = run({"compare", file, "--no-peers"});
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("all 4 queries"), std::string::npos) << r.out;
@@ -132,7 +137,9 @@ TEST_F(AllPairsCli, BadFieldsNameTheirPath) {
 // No body, or one: no pair, exit 0.
 TEST_F(AllPairsCli, FewerThanTwoBodiesAnswerNoPair) {
   for (const std::string& bodies : {std::string("{}"), std::string(R"({"only": {"shape": "ball"}})")}) {
-    const std::string file = write("few.json", scene(bodies, R"([{"type": "contact", "pairs": "all", "max_distance": 1, "expect": {"pair_count": 0}}])"));
+    const std::string file = write(
+        "few.json",
+        scene(bodies, R"([{"type": "contact", "pairs": "all", "max_distance": 1, "expect": {"pair_count": 0}}])"));
     const nlohmann::json doc = run_json({"query", file, "--json"});
     EXPECT_TRUE(doc["results"].empty()) << doc.dump();
     EXPECT_EQ(run({"check", file}).exit_code, 0);

@@ -569,8 +569,7 @@ TEST_F(CompareCli, JsonIsOneWellFormedDocumentWithEveryMethodsVerdict) {
 // Every method is timed the same way (warm, repeated, the median), and the
 // output says how; a ray is labelled ray-<body>, as `query` and `check` do.
 TEST_F(CompareCli, TimingIsStatedAndRaysAreLabelledAsElsewhere) {
-  const std::string path = write(
-      "ray.json", R"({"hedra_scene": 1, "name": "ray",
+  const std::string path = write("ray.json", R"({"hedra_scene": 1, "name": "ray",
         "shapes": {"crate": {"type": "box", "half_extents": [1, 1, 1]}},
         "bodies": {"crate": {"shape": "crate", "position": [5, 0, 0]}},
         "queries": [{"type": "raycast", "body": "crate", "origin": [0, 0, 0], "direction": [10, 0, 0]}]})");

@@ -161,7 +161,8 @@ TEST_F(ContinuousCli, StatsAndTable) {
   EXPECT_EQ(table.exit_code, 0) << table.err;
   EXPECT_NE(table.out.find("toi"), std::string::npos) << table.out;
   EXPECT_NE(table.out.find("t=0.3"), std::string::npos) << table.out;
-  EXPECT_NE(table.out.find("  ray          crate "), std::string::npos) << table.out;  // ray-crate, as check and compare
+  EXPECT_NE(table.out.find("  ray          crate "), std::string::npos)
+      << table.out;  // ray-crate, as check and compare
 }
 
 // Every committed continuous scene: well-formed records that meet the

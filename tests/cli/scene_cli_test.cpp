@@ -588,16 +588,17 @@ TEST_F(SceneCli, ABodyQueriedAgainstItselfIsRefused) {
 
 TEST_F(SceneCli, AnUnknownBodyOrShapeGetsADidYouMean) {
   const std::string body =
-      write("body.json", scene(kTwoBalls, R"({"crate": {"shape": "ball"}, "floor": {"shape": "ball", "position": [5, 0, 0]}})",
-                               R"([{"a": "crat", "b": "floor", "type": "distance"}])"));
+      write("body.json",
+            scene(kTwoBalls, R"({"crate": {"shape": "ball"}, "floor": {"shape": "ball", "position": [5, 0, 0]}})",
+                  R"([{"a": "crat", "b": "floor", "type": "distance"}])"));
   expect_bad({"query", body}, {body + ": queries[0].a: unknown body 'crat' (did you mean 'crate'?)"});
   const std::string shape =
-      write("shape.json", scene(kTwoBalls, R"({"p": {"shape": "Ball"}, "q": {"shape": "ball", "position": [5, 0, 0]}})",
-                                kBallQuery));
+      write("shape.json",
+            scene(kTwoBalls, R"({"p": {"shape": "Ball"}, "q": {"shape": "ball", "position": [5, 0, 0]}})", kBallQuery));
   expect_bad({"query", shape}, {shape + ": bodies.p.shape: unknown shape 'Ball' (did you mean 'ball'?)"});
   // Nothing close: the known names instead of a guess.
-  const std::string far = write("far.json", scene(kTwoBalls, kTwoBallBodies,
-                                                  R"([{"a": "zebra", "b": "q", "type": "distance"}])"));
+  const std::string far =
+      write("far.json", scene(kTwoBalls, kTwoBallBodies, R"([{"a": "zebra", "b": "q", "type": "distance"}])"));
   const RunResult r = expect_bad({"query", far}, {far + ": queries[0].a: unknown body 'zebra' (known: p, q)"});
   EXPECT_EQ(r.err.find("did you mean"), std::string::npos) << r.err;
 }
@@ -606,9 +607,9 @@ TEST_F(SceneCli, AnUnknownBodyOrShapeGetsADidYouMean) {
 // of the continuous queries (hit, fraction).
 TEST_F(SceneCli, UnknownExpectKeysListWhatTheQueryTypeAnswers) {
   const auto message = [&](const std::string& type) {
-    const std::string file = write(type + ".json", scene(kTwoBalls, kTwoBallBodies,
-                                                         R"([{"a": "p", "b": "q", "type": ")" + type +
-                                                             R"(", "expect": {"depth": 1}}])"));
+    const std::string file =
+        write(type + ".json", scene(kTwoBalls, kTwoBallBodies,
+                                    R"([{"a": "p", "b": "q", "type": ")" + type + R"(", "expect": {"depth": 1}}])"));
     return expect_bad({"query", file}, {file + ": queries[0].expect.depth: unknown key"}).err;
   };
   const std::string contact = message("contact");
@@ -621,8 +622,9 @@ TEST_F(SceneCli, UnknownExpectKeysListWhatTheQueryTypeAnswers) {
   EXPECT_NE(intersect.find("an 'intersect' query may expect: intersecting)"), std::string::npos) << intersect;
   EXPECT_EQ(message("distance").find("contact_count"), std::string::npos);
   // "an 'intersect' query", not "a 'intersect' query".
-  const std::string file = write("i.json", scene(kTwoBalls, kTwoBallBodies,
-                                                 R"([{"a": "p", "b": "q", "type": "intersect", "expect": {"hit": true}}])"));
+  const std::string file = write(
+      "i.json",
+      scene(kTwoBalls, kTwoBallBodies, R"([{"a": "p", "b": "q", "type": "intersect", "expect": {"hit": true}}])"));
   const RunResult r = expect_bad({"query", file}, {"an 'intersect' query has no 'hit'"});
   EXPECT_EQ(r.err.find("a 'intersect'"), std::string::npos) << r.err;
 }
@@ -644,14 +646,14 @@ TEST_F(SceneCli, TimesAreWarmMediansAndSaySo) {
 // queries, hit/miss for continuous ones; a ray is ray-<body>; a cast's
 // distance is never printed below its target.
 TEST_F(SceneCli, QueryTableColumnsSayWhatTheyMean) {
-  const std::string file = write(
-      "mixed.json",
-      scene(R"({"ball": {"type": "sphere", "radius": 1}, "crate": {"type": "box", "half_extents": [1, 1, 1]}})",
-            R"({"p": {"shape": "ball"}, "q": {"shape": "ball", "position": [1.5, 0, 0]},
+  const std::string file =
+      write("mixed.json",
+            scene(R"({"ball": {"type": "sphere", "radius": 1}, "crate": {"type": "box", "half_extents": [1, 1, 1]}})",
+                  R"({"p": {"shape": "ball"}, "q": {"shape": "ball", "position": [1.5, 0, 0]},
                 "box": {"shape": "crate", "position": [10, 0, 0]},
                 "mover": {"shape": "crate", "position": [0, 0, 5], "end_position": [0, 0, -1]},
                 "still": {"shape": "crate", "position": [0.3, 0.2, 0]}})",
-            R"([{"a": "p", "b": "q", "type": "intersect"}, {"a": "p", "b": "box", "type": "distance"},
+                  R"([{"a": "p", "b": "q", "type": "intersect"}, {"a": "p", "b": "box", "type": "distance"},
                 {"type": "raycast", "body": "box", "origin": [0, 0, 0], "direction": [20, 0, 0]},
                 {"a": "mover", "b": "still", "type": "cast"}])"));
   const RunResult r = run({"query", file});

@@ -71,12 +71,12 @@ static_assert(!std::is_convertible_v<double, Margin>);
 // ---- one argument order: (..., cache, settings) --------------------------
 
 static_assert(std::is_same_v<decltype(&shape_cast),
-                             CastResult (*)(const Shape&, const Pose&, const Vec&, const Shape&, const Pose&, const Vec&,
-                                            GjkCache*, const ShapeCastSettings&)>);
+                             CastResult (*)(const Shape&, const Pose&, const Vec&, const Shape&, const Pose&,
+                                            const Vec&, GjkCache*, const ShapeCastSettings&)>);
 static_assert(std::is_same_v<decltype(&time_of_impact), CastResult (*)(const Shape&, const Sweep&, const Shape&,
-                                                                        const Sweep&, GjkCache*, const ToiSettings&)>);
+                                                                       const Sweep&, GjkCache*, const ToiSettings&)>);
 static_assert(std::is_same_v<decltype(&distance), DistanceResult (*)(const Shape&, const Pose&, const Shape&,
-                                                                      const Pose&, GjkCache*, const GjkSettings&)>);
+                                                                     const Pose&, GjkCache*, const GjkSettings&)>);
 static_assert(
     std::is_same_v<decltype(&penetration), PenetrationResult (*)(const Shape&, const Pose&, const Shape&, const Pose&,
                                                                  GjkCache*, const PenetrationSettings&)>);
@@ -126,8 +126,7 @@ Verdicts invalid_with(const Pose& pose_b) {
   v.penetration = penetration(a, pose_a, b, pose_b).status == Status::invalid_input;
   v.contact = contact(a, pose_a, b, pose_b).status == Status::invalid_input;
   v.raycast = raycast(b, pose_b, Vec::Zero(), Vec(4.0, 0.0, 0.0)).status == CastStatus::invalid_input;
-  v.shape_cast =
-      shape_cast(a, pose_a, Vec::Zero(), b, pose_b, Vec(-3.0, 0.0, 0.0)).status == CastStatus::invalid_input;
+  v.shape_cast = shape_cast(a, pose_a, Vec::Zero(), b, pose_b, Vec(-3.0, 0.0, 0.0)).status == CastStatus::invalid_input;
   v.time_of_impact = time_of_impact(a, {pose_a, pose_a}, b, sweep_b).status == CastStatus::invalid_input;
   return v;
 }
@@ -161,7 +160,7 @@ TEST(PoseValidity, AccumulatedDriftWithinAndBeyondTheTolerance) {
   const auto error = [](const Pose& p) {
     return (p.rotation.transpose() * p.rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   };
-  const Pose within = drifted(1e-6);   // |R^T R - I| about 0.8e-6
+  const Pose within = drifted(1e-6);    // |R^T R - I| about 0.8e-6
   const Pose beyond = drifted(1.5e-6);  // about 1.2e-6
   ASSERT_LT(error(within), rotation_tolerance);
   ASSERT_GT(error(beyond), rotation_tolerance);

@@ -88,8 +88,13 @@ std::vector<Shape> test_shapes() {
   for (int i = 0; i < 24; ++i) points.emplace_back(0.6 * u(rng), 0.4 * u(rng), 0.5 * u(rng));
   const ConvexPolyhedron::BuildResult hull = ConvexPolyhedron::build(points);
   EXPECT_TRUE(hull.ok());
-  return {Box{Vec(0.5, 0.3, 0.2), 0.0}, Polyhedron{hull.polyhedron, 0.0}, Capsule{0.2, 0.4, 0.0},
-          Cylinder{0.3, 0.4, 0.02}, Cone{0.3, 0.5, 0.0}, Sphere{0.4, 0.0}, Polyhedron{hull.polyhedron, 0.05}};
+  return {Box{Vec(0.5, 0.3, 0.2), 0.0},
+          Polyhedron{hull.polyhedron, 0.0},
+          Capsule{0.2, 0.4, 0.0},
+          Cylinder{0.3, 0.4, 0.02},
+          Cone{0.3, 0.5, 0.0},
+          Sphere{0.4, 0.0},
+          Polyhedron{hull.polyhedron, 0.05}};
 }
 
 std::vector<Pose> random_poses(std::mt19937_64& rng, std::size_t n, double spread) {

@@ -14,6 +14,8 @@
 //     tumbling) the box path's warm answers equal the general path's warm
 //     answers, and a still pair's answer comes from the cache on >= 99 % of
 //     the frames, equal bit for bit to a cold query at the new poses.
+#include "../../collision/src/box_box.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -24,7 +26,6 @@
 #include <string>
 #include <vector>
 
-#include "../../collision/src/box_box.hpp"
 #include "collision_test_support.hpp"
 
 namespace hedra::collision {

@@ -655,7 +655,8 @@ TEST(TimeOfImpact, BodiesStartingInContactOrOverlapping) {
   ToiSettings within;
   within.target_distance = 0.1;
   const Body b = body(Sphere{0.5, 0.0}, Vec(1.55, 0, 0), Vec(3, 0, 0));
-  EXPECT_EQ(time_of_impact(a.shape, a.sweep(), b.shape, b.sweep(), nullptr, within).status, CastStatus::initially_overlapping);
+  EXPECT_EQ(time_of_impact(a.shape, a.sweep(), b.shape, b.sweep(), nullptr, within).status,
+            CastStatus::initially_overlapping);
   report("starting in contact", stats);
 }
 
@@ -762,7 +763,8 @@ TEST(TimeOfImpact, InvalidInput) {
   EXPECT_EQ(time_of_impact(Sphere{1, 0}, bad, Sphere{1, 0}, still).status, CastStatus::invalid_input);
   ToiSettings negative;
   negative.target_distance = -1.0;
-  EXPECT_EQ(time_of_impact(Sphere{1, 0}, still, Sphere{1, 0}, still, nullptr, negative).status, CastStatus::invalid_input);
+  EXPECT_EQ(time_of_impact(Sphere{1, 0}, still, Sphere{1, 0}, still, nullptr, negative).status,
+            CastStatus::invalid_input);
   EXPECT_EQ(
       shape_cast(Sphere{1, 0}, Pose::identity(), Vec(std::nan(""), 0, 0), Sphere{1, 0}, Pose::identity(), Vec::Zero())
           .status,

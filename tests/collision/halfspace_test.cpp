@@ -95,7 +95,8 @@ TEST(Halfspace, CapsuleLyingGivesTwoPointsAndStandingOne) {
   lying.rotation = Eigen::AngleAxisd(M_PI / 2, Vec::UnitY()).toRotationMatrix();
   lying.translation = Vec(0, 0, 0.09);
   EXPECT_EQ(contact(Halfspace{}, Pose::identity(), capsule, lying).count, 2);
-  const ContactResult standing = contact(Halfspace{}, Pose::identity(), capsule, Pose::from_translation(Vec(0, 0, 0.39)));
+  const ContactResult standing =
+      contact(Halfspace{}, Pose::identity(), capsule, Pose::from_translation(Vec(0, 0, 0.39)));
   ASSERT_EQ(standing.count, 1);
   EXPECT_NEAR(standing.points[0].depth, 0.01, 1e-15);
   EXPECT_EQ(standing.points[0].id.incident, 0u);  // the -z end
@@ -113,8 +114,8 @@ TEST(Halfspace, EveryShapeAgreesWithTheExactReference) {
   for (int trial = 0; trial < 40; ++trial) {
     for (const Shape& shape : shapes) {
       const Halfspace h{testing::random_unit(rng), trial % 3 == 0 ? 0.05 : 0.0};
-      const Pose pose_h = Pose::from_quaternion(
-          Eigen::Quaterniond(unit(rng), unit(rng), unit(rng), unit(rng)), Vec(unit(rng), unit(rng), unit(rng)));
+      const Pose pose_h = Pose::from_quaternion(Eigen::Quaterniond(unit(rng), unit(rng), unit(rng), unit(rng)),
+                                                Vec(unit(rng), unit(rng), unit(rng)));
       Pose pose_b = Pose::from_quaternion(Eigen::Quaterniond(unit(rng), unit(rng), unit(rng), unit(rng)),
                                           Vec(unit(rng), unit(rng), unit(rng)) * 5.0);
       // Put B's support 0.1 above to 0.1 below the surface.
@@ -221,12 +222,15 @@ TEST(Halfspace, AHullRestingOnAFaceOfManyVerticesKeepsFourOfLargestArea) {
     p[k] = r.points[k].point;
     EXPECT_NEAR(r.points[k].depth, 0.001, 1e-15);
   }
-  const double area = 0.5 * std::abs((p[2] - p[0]).cross(p[1] - p[0]).z()) + 0.5 * std::abs((p[3] - p[0]).cross(p[1] - p[0]).z());
+  const double area =
+      0.5 * std::abs((p[2] - p[0]).cross(p[1] - p[0]).z()) + 0.5 * std::abs((p[3] - p[0]).cross(p[1] - p[0]).z());
   EXPECT_NEAR(area, 2.0, 1e-12);
   // The same points with a cache, cold and warm.
   ContactCache cache;
-  const ContactResult cold = contact(Halfspace{}, Pose::identity(), prism, Pose::from_translation(Vec(0, 0, -0.001)), &cache);
-  const ContactResult warm = contact(Halfspace{}, Pose::identity(), prism, Pose::from_translation(Vec(0, 0, -0.001)), &cache);
+  const ContactResult cold =
+      contact(Halfspace{}, Pose::identity(), prism, Pose::from_translation(Vec(0, 0, -0.001)), &cache);
+  const ContactResult warm =
+      contact(Halfspace{}, Pose::identity(), prism, Pose::from_translation(Vec(0, 0, -0.001)), &cache);
   for (int k = 0; k < 4; ++k) EXPECT_EQ(cold.points[k].id, warm.points[k].id);
 }
 

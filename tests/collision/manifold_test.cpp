@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <hedra/collision/manifold.hpp>
 #include <algorithm>
+#include <hedra/collision/manifold.hpp>
 #include <limits>
 #include <random>
 

@@ -72,8 +72,8 @@ bool brute_keep(const World& w, std::uint32_t i, std::uint32_t j, const PairSett
 }
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> brute_pairs(const World& w, const PairSettings& s,
-                                                                  const std::vector<std::uint32_t>& group,
-                                                                  const std::vector<std::uint32_t>& mask) {
+                                                                 const std::vector<std::uint32_t>& group,
+                                                                 const std::vector<std::uint32_t>& mask) {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
   const auto n = static_cast<std::uint32_t>(w.size());
   for (std::uint32_t i = 0; i < n; ++i)
@@ -124,16 +124,31 @@ Scene random_scene(std::uint64_t seed, int n, double size, double spread, double
     const double s = size * (1.0 + 0.5 * u(rng)) * std::pow(spread, u(rng));
     Shape shape;
     switch (i % 7) {
-      case 0: shape = Box{s * Vec(0.5 + u01(rng), 0.5 + u01(rng), 0.5 + u01(rng)), 0.0}; break;
-      case 1: shape = Box{s * Vec(4.0, 0.05, 0.05), 0.0}; break;  // long and thin
-      case 2: shape = Polyhedron{random_hull(rng, 8 + i % 25, s * Vec(1.0, 0.7, 0.5)), i % 3 == 0 ? 0.1 * s : 0.0}; break;
-      case 3: shape = Sphere{0.6 * s, 0.0}; break;
-      case 4: shape = Capsule{0.3 * s, 0.8 * s, 0.0}; break;
-      case 5: shape = Cylinder{0.5 * s, 0.6 * s, i % 2 ? 0.05 * s : 0.0}; break;
-      default: shape = Cone{0.5 * s, 0.7 * s, 0.0}; break;
+      case 0:
+        shape = Box{s * Vec(0.5 + u01(rng), 0.5 + u01(rng), 0.5 + u01(rng)), 0.0};
+        break;
+      case 1:
+        shape = Box{s * Vec(4.0, 0.05, 0.05), 0.0};
+        break;  // long and thin
+      case 2:
+        shape = Polyhedron{random_hull(rng, 8 + i % 25, s * Vec(1.0, 0.7, 0.5)), i % 3 == 0 ? 0.1 * s : 0.0};
+        break;
+      case 3:
+        shape = Sphere{0.6 * s, 0.0};
+        break;
+      case 4:
+        shape = Capsule{0.3 * s, 0.8 * s, 0.0};
+        break;
+      case 5:
+        shape = Cylinder{0.5 * s, 0.6 * s, i % 2 ? 0.05 * s : 0.0};
+        break;
+      default:
+        shape = Cone{0.5 * s, 0.7 * s, 0.0};
+        break;
     }
     scene.shapes.push_back(shape);
-    scene.poses.push_back(Pose::from_quaternion(random_rotation(rng), centre + 0.5 * extent * Vec(u(rng), u(rng), u(rng))));
+    scene.poses.push_back(
+        Pose::from_quaternion(random_rotation(rng), centre + 0.5 * extent * Vec(u(rng), u(rng), u(rng))));
     scene.group.push_back(1u << (i % 3));
     scene.mask.push_back(i % 5 == 0 ? ~(1u << ((i + 1) % 3)) : 0xFFFFFFFFu);
   }
@@ -164,8 +179,8 @@ void check_scene(const Scene& scene, const std::vector<double>& distances, const
       ASSERT_EQ(ids(reference), expected) << what << " query " << int(q) << " max_distance " << d;
       if (found) *found += static_cast<int>(expected.size());
       EXPECT_GE(world.stats().candidates, expected.size());
-      for (const ParallelSettings& p : {ParallelSettings{2, nullptr}, ParallelSettings{0, nullptr},
-                                        ParallelSettings{0, &reverse}}) {
+      for (const ParallelSettings& p :
+           {ParallelSettings{2, nullptr}, ParallelSettings{0, nullptr}, ParallelSettings{0, &reverse}}) {
         s.parallel = p;
         std::vector<PairResult> out;
         world.pairs(s, out);
@@ -296,7 +311,8 @@ TEST(World, SteadyFramesAllocateNothing) {
 TEST(World, FilterAndIgnoredPairs) {
   World world;
   const Box box{Vec(1, 1, 1), 0.0};
-  for (int i = 0; i < 4; ++i) world.add(box, Pose::from_translation(Vec(0.5 * i, 0, 0)), i == 3 ? 2u : 1u, i == 3 ? 2u : 0xFFFFFFFFu);
+  for (int i = 0; i < 4; ++i)
+    world.add(box, Pose::from_translation(Vec(0.5 * i, 0, 0)), i == 3 ? 2u : 1u, i == 3 ? 2u : 0xFFFFFFFFu);
   // 3 is in group 2 and sees only group 2: it pairs with nobody (0..2 are group 1).
   EXPECT_TRUE(world.ignore_pair(2, 0));
   EXPECT_TRUE(world.ignore_pair(0, 2));  // twice is once
@@ -377,7 +393,8 @@ TEST(World, BoxesAreTightAndHoldTheShape) {
     const World::Aabb box = world.box(i);
     const Pose& p = scene.poses[i];
     const double r = bounding_radius(scene.shapes[i]);
-    const double allowance = World::kBoxBand * r + World::kBoxRounding * (p.translation.cwiseAbs().maxCoeff() + 2.0 * r);
+    const double allowance =
+        World::kBoxBand * r + World::kBoxRounding * (p.translation.cwiseAbs().maxCoeff() + 2.0 * r);
     for (int k = 0; k < 3; ++k) {
       const Vec axis = Vec::Unit(k);
       const double hi = axis.dot(p.apply(support(scene.shapes[i], p.rotation.transpose() * axis)));

@@ -418,8 +418,9 @@ void check_cached_frames(const Shape& a, const Pose& pose_a, const Shape& b, con
     const hedra::collision::PenetrationResult p_cold = penetration(a, pose_a, b, *frame);
     HEDRA_FUZZ_CHECK(warm.count >= 0 && warm.count <= hedra::collision::kMaxContactPoints, "warm contact count %d",
                      warm.count);
-    HEDRA_FUZZ_CHECK(std::isfinite(warm.distance) && finite(warm.normal) && finite(warm.point_a) && finite(warm.point_b),
-                     "warm contact: non-finite output (status %s)", to_string(warm.status));
+    HEDRA_FUZZ_CHECK(
+        std::isfinite(warm.distance) && finite(warm.normal) && finite(warm.point_a) && finite(warm.point_b),
+        "warm contact: non-finite output (status %s)", to_string(warm.status));
     for (int k = 0; k < warm.count; ++k)
       HEDRA_FUZZ_CHECK(finite(warm.points[k].point) && std::isfinite(warm.points[k].depth),
                        "warm contact point %d non-finite", k);
@@ -427,7 +428,8 @@ void check_cached_frames(const Shape& a, const Pose& pose_a, const Shape& b, con
                      "warm contact status %s, cold %s", to_string(warm.status), to_string(cold.status));
     const double bias = settings.relative_bias * std::fabs(cold.distance) + settings.absolute_bias * 2.0 * size_scale;
     if (warm.status == Status::ok && cold.status == Status::ok && warm.intersecting && cold.intersecting &&
-        warm.path != hedra::collision::ContactPath::single_point && cold.path != hedra::collision::ContactPath::single_point)
+        warm.path != hedra::collision::ContactPath::single_point &&
+        cold.path != hedra::collision::ContactPath::single_point)
       HEDRA_FUZZ_CHECK(std::fabs(warm.distance - cold.distance) <= 2.0 * bias + tol,
                        "warm contact distance %.17g, cold %.17g (bias %.3g)", warm.distance, cold.distance, bias);
     if (p_warm.status == Status::ok && p_cold.status == Status::ok)
@@ -480,11 +482,12 @@ void check_halfspace(const Shape& b, const Pose& pose_a, const Pose& pose_b, dou
   const double coordinates = (pose_b.translation - pose_a.translation).norm() + offset + size + margin;
   const double tol = 1e-9 * size + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
   HEDRA_FUZZ_CHECK(std::fabs(p.normal.norm() - 1.0) < 1e-12, "halfspace normal of length %.17g", p.normal.norm());
-  HEDRA_FUZZ_CHECK(std::fabs(c.distance - p.distance) <= tol, "halfspace: contact %.17g, penetration %.17g",
-                   c.distance, p.distance);
+  HEDRA_FUZZ_CHECK(std::fabs(c.distance - p.distance) <= tol, "halfspace: contact %.17g, penetration %.17g", c.distance,
+                   p.distance);
   HEDRA_FUZZ_CHECK(i.intersecting == p.intersecting && d.intersecting == p.intersecting,
                    "halfspace: intersect / distance / penetration disagree");
-  if (c.distance <= settings.contact_distance) HEDRA_FUZZ_CHECK(c.count >= 1, "halfspace: no point at %.17g", c.distance);
+  if (c.distance <= settings.contact_distance)
+    HEDRA_FUZZ_CHECK(c.count >= 1, "halfspace: no point at %.17g", c.distance);
   double deepest = -INFINITY;
   for (int k = 0; k < c.count; ++k) {
     const ContactPoint& q = c.points[k];
@@ -528,8 +531,8 @@ void check_box_pair(const Shape& a, const Pose& pose_a, const Shape& b, const Po
                    "box path %s %s %d points, general path %s %s %d", to_string(c.status), to_string(c.path), c.count,
                    to_string(g.status), to_string(g.path), g.count);
   if (c.status != Status::ok) return;
-  HEDRA_FUZZ_CHECK(std::fabs(g.distance - c.distance) <= tol, "box path distance %.17g, general path %.17g",
-                   c.distance, g.distance);
+  HEDRA_FUZZ_CHECK(std::fabs(g.distance - c.distance) <= tol, "box path distance %.17g, general path %.17g", c.distance,
+                   g.distance);
   for (int k = 0; k < c.count; ++k) {  // in either order (equally deep points: rounding orders them)
     bool found = false;
     for (int j = 0; j < g.count; ++j)
@@ -546,7 +549,8 @@ void check_box_pair(const Shape& a, const Pose& pose_a, const Shape& b, const Po
   // (Answers built on penetration()'s normal are not kept: GJK's warm start
   // moves with the cache.)
   if (!cache.box.valid) return;
-  const bool recycled = hedra::collision::detail::box_box_contact(box_a, pose_a, box_b, pose_b, &cache, settings, again);
+  const bool recycled =
+      hedra::collision::detail::box_box_contact(box_a, pose_a, box_b, pose_b, &cache, settings, again);
   HEDRA_FUZZ_CHECK(recycled && again.stats.cache_hit, "a still box pair not answered from its cache");
   HEDRA_FUZZ_CHECK(again.status == first.status && again.count == first.count && again.distance == first.distance &&
                        again.normal == first.normal,

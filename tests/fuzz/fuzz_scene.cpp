@@ -13,8 +13,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <utility>
 #include <string>
+#include <utility>
 
 #include "fuzz_input.hpp"
 #include "scene/scene.hpp"
@@ -41,11 +41,11 @@ void check_all_pairs(const hedra::tool::BuiltScene& built, std::size_t q) {
     const hedra::tool::QueryOutcome &x = one.pairs[k], &y = two.pairs[k];
     HEDRA_FUZZ_CHECK(x.body_a < x.body_b && x.body_b < built.scene->bodies.size(), "query %zu: pair %zu (%zu, %zu)", q,
                      k, x.body_a, x.body_b);
-    HEDRA_FUZZ_CHECK(k == 0 || std::make_pair(one.pairs[k - 1].body_a, one.pairs[k - 1].body_b) <
-                                   std::make_pair(x.body_a, x.body_b),
-                     "query %zu: pair %zu out of order", q, k);
-    HEDRA_FUZZ_CHECK(finite_opt(x.distance) && finite_opt(x.normal) && finite_opt(x.point_a) &&
-                         finite_opt(x.point_b) && std::isfinite(x.error_bound),
+    HEDRA_FUZZ_CHECK(
+        k == 0 || std::make_pair(one.pairs[k - 1].body_a, one.pairs[k - 1].body_b) < std::make_pair(x.body_a, x.body_b),
+        "query %zu: pair %zu out of order", q, k);
+    HEDRA_FUZZ_CHECK(finite_opt(x.distance) && finite_opt(x.normal) && finite_opt(x.point_a) && finite_opt(x.point_b) &&
+                         std::isfinite(x.error_bound),
                      "query %zu: pair %zu: a non-finite number (status %s)", q, k, x.status.c_str());
     HEDRA_FUZZ_CHECK(x.body_a == y.body_a && x.body_b == y.body_b && x.status == y.status &&
                          x.intersecting == y.intersecting && same(x.distance, y.distance) && same(x.normal, y.normal) &&

@@ -53,16 +53,16 @@ ModelPtr load_scene(const std::string& name) {
   return ModelPtr(m);
 }
 
-const char* kCube = "-0.05 -0.05 -0.05 0.05 -0.05 -0.05 -0.05 0.05 -0.05 0.05 0.05 -0.05 "
-                    "-0.05 -0.05 0.05 0.05 -0.05 0.05 -0.05 0.05 0.05 0.05 0.05 0.05";
+const char* kCube =
+    "-0.05 -0.05 -0.05 0.05 -0.05 -0.05 -0.05 0.05 -0.05 0.05 0.05 -0.05 "
+    "-0.05 -0.05 0.05 0.05 -0.05 0.05 -0.05 0.05 0.05 0.05 0.05 0.05";
 
 // One geom `body_geom` in a free body at `pos` / `quat` over a plane.
 std::string on_plane(const std::string& body_geom, const std::string& pos, const std::string& quat = "1 0 0 0",
                      const std::string& extra = "") {
   return std::string("<mujoco><asset><mesh name=\"cube\" vertex=\"") + kCube +
-         "\"/></asset><worldbody><geom name=\"floor\" type=\"plane\" size=\"1 1 0.1\" " + extra +
-         "/><body pos=\"" + pos + "\" quat=\"" + quat + "\"><freejoint/>" + body_geom +
-         "</body></worldbody></mujoco>";
+         "\"/></asset><worldbody><geom name=\"floor\" type=\"plane\" size=\"1 1 0.1\" " + extra + "/><body pos=\"" +
+         pos + "\" quat=\"" + quat + "\"><freejoint/>" + body_geom + "</body></worldbody></mujoco>";
 }
 
 TEST(MujocoConventions, MeshCubeSunkIntoThePlaneGivesFourContactsWithDistPosAndNormal) {
@@ -78,9 +78,9 @@ TEST(MujocoConventions, MeshCubeSunkIntoThePlaneGivesFourContactsWithDistPosAndN
     EXPECT_EQ(c.geom2, 1);
     // MuJoCo stores mesh vertices as floats, recentred on the mesh's
     // centroid: the corners are where they were within a few 1e-9.
-    EXPECT_NEAR(c.dist, -0.001, 1e-8);                   // signed distance, negative: penetration
-    EXPECT_NEAR(c.pos[2], -0.0005, 1e-8);                // midway between z = 0 and the corner at -0.001
-    EXPECT_NEAR(std::abs(c.pos[0] - 0.3), 0.05, 1e-8);   // the bottom corners
+    EXPECT_NEAR(c.dist, -0.001, 1e-8);                  // signed distance, negative: penetration
+    EXPECT_NEAR(c.pos[2], -0.0005, 1e-8);               // midway between z = 0 and the corner at -0.001
+    EXPECT_NEAR(std::abs(c.pos[0] - 0.3), 0.05, 1e-8);  // the bottom corners
     EXPECT_NEAR(std::abs(c.pos[1] + 0.2), 0.05, 1e-8);
     // Exactly: geom1.s witness (pos - dist/2 normal) on the plane.
     EXPECT_NEAR(c.pos[2] - c.dist / 2.0, 0.0, 1e-18);
@@ -136,8 +136,8 @@ TEST(MujocoConventions, EveryPointWithDistBelowTheMarginIsReturned) {
   // The cube 0.005 above the plane: margin 0.01 reports its four corners at
   // dist 0.005; margin 0.004 none. hedra's shape margins stay zero.
   for (const double margin : {0.01, 0.004}) {
-    ModelPtr m = load_string(on_plane("<geom type=\"mesh\" mesh=\"cube\" margin=\"" + std::to_string(margin) + "\"/>",
-                                      "0 0 0.055"));
+    ModelPtr m = load_string(
+        on_plane("<geom type=\"mesh\" mesh=\"cube\" margin=\"" + std::to_string(margin) + "\"/>", "0 0 0.055"));
     auto hedra = Narrowphase::install(m.get());
     EXPECT_EQ(std::get<collision::Polyhedron>(*hedra->shape(1)).margin, 0.0);
     DataPtr d(mj_makeData(m.get()));
@@ -155,7 +155,8 @@ TEST(MujocoConventions, NormalsPointFromGeom1TowardGeom2) {
   ASSERT_GT(d->ncon, 8);
   for (int i = 0; i < d->ncon; ++i) {
     const mjContact& c = d->contact[i];
-    const Vec between = Eigen::Map<const Vec>(d->geom_xpos + 3 * c.geom2) - Eigen::Map<const Vec>(d->geom_xpos + 3 * c.geom1);
+    const Vec between =
+        Eigen::Map<const Vec>(d->geom_xpos + 3 * c.geom2) - Eigen::Map<const Vec>(d->geom_xpos + 3 * c.geom1);
     if (m->geom_type[c.geom1] == mjGEOM_PLANE) {
       EXPECT_GT(c.frame[2], 0.999);
     } else {
@@ -269,7 +270,7 @@ TEST(MujocoInstall, UninstallGivesMuJoCosFunctionsBackAndOtherModelsKeepThem) {
     EXPECT_NE(mjCOLLISIONFUNC[mjGEOM_PLANE][mjGEOM_MESH], own);
     EXPECT_NE(mjCOLLISIONFUNC[mjGEOM_BOX][mjGEOM_BOX], box_box);
     EXPECT_EQ(mjCOLLISIONFUNC[mjGEOM_SPHERE][mjGEOM_SPHERE], sphere_sphere);  // MuJoCo's closed form stays
-    EXPECT_FALSE(Narrowphase::install(a.get()));                               // once per model
+    EXPECT_FALSE(Narrowphase::install(a.get()));                              // once per model
     DataPtr da(mj_makeData(a.get())), db(mj_makeData(b.get()));
     mj_forward(a.get(), da.get());
     mj_forward(b.get(), db.get());
@@ -349,9 +350,10 @@ TEST(MujocoProgram, JsonHasTheModelAndOneRunPerNarrowphaseWithExactlyTheFields) 
   const Output o =
       run_program(std::string(HEDRA_MUJOCO_SCENES) + "/stack_3.xml --seconds 0.2 --narrowphase both --multiccd --json");
   ASSERT_EQ(o.status, 0) << o.err;
-  for (const char* field : {"\"model\"", "\"runs\"", "\"narrowphase\": \"hedra\"", "\"narrowphase\": \"mujoco-multiccd\"",
-                            "\"steps\": 100", "\"max_drift\"", "\"max_displacement\"", "\"max_penetration\"",
-                            "\"mean_contacts\"", "\"step_us\"", "\"nan\": false"})
+  for (const char* field :
+       {"\"model\"", "\"runs\"", "\"narrowphase\": \"hedra\"", "\"narrowphase\": \"mujoco-multiccd\"", "\"steps\": 100",
+        "\"max_drift\"", "\"max_displacement\"", "\"max_penetration\"", "\"mean_contacts\"", "\"step_us\"",
+        "\"nan\": false"})
     EXPECT_NE(o.out.find(field), std::string::npos) << field << "\n" << o.out;
   std::size_t fields = 0;
   for (std::size_t at = o.out.find("\": "); at != std::string::npos; at = o.out.find("\": ", at + 1)) ++fields;

@@ -199,16 +199,17 @@ std::string format_text(const LoadedScene& loaded, const std::vector<Record>& re
       }
       const bool ray = q.type == QueryType::raycast;
       std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-7s %-28s %-32s %4d %4s %10s\n", i,
-                    ray ? "ray" : scene.bodies[o.body_a].name.c_str(), scene.bodies[ray ? o.body_a : o.body_b].name.c_str(),
-                    to_string(q.type), o.status.c_str(), o.hit ? "hit" : "miss", at, format_vector(o.normal).c_str(),
-                    o.cast_iterations, "-", format_time(o.time_ns).c_str());
+                    ray ? "ray" : scene.bodies[o.body_a].name.c_str(),
+                    scene.bodies[ray ? o.body_a : o.body_b].name.c_str(), to_string(q.type), o.status.c_str(),
+                    o.hit ? "hit" : "miss", at, format_vector(o.normal).c_str(), o.cast_iterations, "-",
+                    format_time(o.time_ns).c_str());
       text += line;
       continue;
     }
     std::snprintf(line, sizeof line, "%3zu  %-12s %-12s %-11s %-14s %-7s %-28s %-32s %4d %4d %10s\n", i,
-                  scene.bodies[o.body_a].name.c_str(), scene.bodies[o.body_b].name.c_str(), to_string(q.type), o.status.c_str(),
-                  o.intersecting ? "overlap" : "apart", distance.c_str(), format_vector(o.normal).c_str(), o.gjk_iterations,
-                  o.epa_iterations, format_time(o.time_ns).c_str());
+                  scene.bodies[o.body_a].name.c_str(), scene.bodies[o.body_b].name.c_str(), to_string(q.type),
+                  o.status.c_str(), o.intersecting ? "overlap" : "apart", distance.c_str(),
+                  format_vector(o.normal).c_str(), o.gjk_iterations, o.epa_iterations, format_time(o.time_ns).c_str());
     text += line;
   }
   if (options.stats) {
@@ -280,12 +281,15 @@ Subcommand add_query_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("query", "Run the queries of a scene file and print the answers");
   command->add_option("scene", options->scene, "Scene file (JSON, see the README)")->required();
   command->add_flag("--json", options->json, "Print the results as one JSON document");
-  command->add_option("--repeat", options->repeat, "Time each query N times after an untimed warm-up call and report the median (default 1)")
+  command
+      ->add_option("--repeat", options->repeat,
+                   "Time each query N times after an untimed warm-up call and report the median (default 1)")
       ->check(whole_number_in(1, kMaxRepeat, "repeat count"))
       ->type_name("N");
-  command->add_option("--threads", options->threads,
-                      "Threads for queries over all pairs (0, the default: all cores); the answers are the same "
-                      "for any count")
+  command
+      ->add_option("--threads", options->threads,
+                   "Threads for queries over all pairs (0, the default: all cores); the answers are the same "
+                   "for any count")
       ->check(whole_number_in(0, kMaxThreads, "thread count"))
       ->type_name("N");
   command->add_flag("--stats", options->stats,

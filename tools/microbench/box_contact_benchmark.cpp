@@ -37,8 +37,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <random>
 #include <hedra/collision/manifold.hpp>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -54,9 +54,7 @@ struct Family {
   std::vector<Pose> pose_a, pose_b;
 };
 
-Pose yawed(double yaw, const Vec& t) {
-  return {Eigen::AngleAxisd(yaw, Vec::UnitZ()).toRotationMatrix(), t};
-}
+Pose yawed(double yaw, const Vec& t) { return {Eigen::AngleAxisd(yaw, Vec::UnitZ()).toRotationMatrix(), t}; }
 
 constexpr int kFrames = 1000;
 
@@ -238,9 +236,10 @@ int verify(long pairs) {
     if (family == 0) {  // tumbling
       pb = {random_rotation(), pa.translation + 1.2 * Vec(u(rng), u(rng), u(rng))};
     } else {  // B on A's top face, tilted, yawed
-      const Eigen::Matrix3d r = (Eigen::AngleAxisd(3.2 * u(rng), Vec::UnitZ()) *
-                                 Eigen::AngleAxisd(tilt(rng), Vec::UnitX()) * Eigen::AngleAxisd(tilt(rng), Vec::UnitY()))
-                                    .toRotationMatrix();
+      const Eigen::Matrix3d r =
+          (Eigen::AngleAxisd(3.2 * u(rng), Vec::UnitZ()) * Eigen::AngleAxisd(tilt(rng), Vec::UnitX()) *
+           Eigen::AngleAxisd(tilt(rng), Vec::UnitY()))
+              .toRotationMatrix();
       const double gap = family == 1 ? -1e-2 * (0.01 + 0.99 * 0.5 * (1 + u(rng))) : (family == 2 ? 0.0 : 1e-3);
       const Vec local(0.5 * a.half_extents.x() * u(rng), 0.5 * a.half_extents.y() * u(rng),
                       a.half_extents.z() + b.half_extents.z() + 2 * margin + gap);
@@ -260,8 +259,9 @@ int verify(long pairs) {
                     fast.distance, slow.distance);
     }
   }
-  std::printf("%ld pairs (%ld with points, %ld on a face of B), %ld mismatches between the box path and the general path\n",
-              pairs, with_points, face_of_b, mismatches);
+  std::printf(
+      "%ld pairs (%ld with points, %ld on a face of B), %ld mismatches between the box path and the general path\n",
+      pairs, with_points, face_of_b, mismatches);
   return mismatches == 0 ? 0 : 1;
 }
 
@@ -327,9 +327,9 @@ int main(int argc, char** argv) {
       warm_cold.push_back(w.ns / c.ns);
     }
     std::printf("| %s | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f | %.2f | %.1f %% | %.2f | %.2f |\n", f.name.c_str(),
-                median(general_cold), median(general_warm), median(cold), median(warm), median(bullet),
-                median(cold_bt), median(warm_cold), 100.0 * w.hits / f.pose_a.size(),
-                static_cast<double>(c.points) / f.pose_a.size(), static_cast<double>(b.points) / f.pose_a.size());
+                median(general_cold), median(general_warm), median(cold), median(warm), median(bullet), median(cold_bt),
+                median(warm_cold), 100.0 * w.hits / f.pose_a.size(), static_cast<double>(c.points) / f.pose_a.size(),
+                static_cast<double>(b.points) / f.pose_a.size());
   }
   return 0;
 }

@@ -42,10 +42,9 @@
 #include <vector>
 
 #ifdef HEDRA_WITH_PEERS
-#  include <btBulletCollisionCommon.h>
-
 #  include <BulletCollision/CollisionDispatch/btCollisionDispatcherMt.h>
 #  include <LinearMath/btThreads.h>
+#  include <btBulletCollisionCommon.h>
 #  include <fcl/fcl.h>
 #endif
 
@@ -237,7 +236,8 @@ void tree_update_study(std::size_t n, int frames, double step) {
   std::vector<Pose> poses = scene.frames[0];
   for (World& w : worlds)
     for (std::size_t i = 0; i < n; ++i) w.add(scene.bodies[i].shape, poses[i]);
-  std::printf("| frame | moved (body sizes) | refit cost ratio | refit ms | rebuild ms | automatic ms | automatic rebuilt |\n");
+  std::printf(
+      "| frame | moved (body sizes) | refit cost ratio | refit ms | rebuild ms | automatic ms | automatic rebuilt |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   std::vector<PairResult> out;
   for (int f = 0; f <= frames; ++f) {
@@ -303,9 +303,9 @@ Measure run_bullet(const Scene& scene, bool multithreaded, int threads, const Pa
   const std::size_t heap0 = heap_bytes();
   Clock::time_point start = Clock::now();
   btDefaultCollisionConfiguration config;
-  std::unique_ptr<btCollisionDispatcher> dispatcher =
-      multithreaded ? std::make_unique<btCollisionDispatcherMt>(&config, 40)
-                    : std::make_unique<btCollisionDispatcher>(&config);
+  std::unique_ptr<btCollisionDispatcher> dispatcher = multithreaded
+                                                          ? std::make_unique<btCollisionDispatcherMt>(&config, 40)
+                                                          : std::make_unique<btCollisionDispatcher>(&config);
   btDbvtBroadphase broadphase;
   btCollisionWorld world(dispatcher.get(), &broadphase, &config);
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
@@ -324,7 +324,8 @@ Measure run_bullet(const Scene& scene, bool multithreaded, int threads, const Pa
   m.memory_mb = static_cast<double>(heap_bytes() - heap0) / 1e6;
   std::vector<double> frames, broad, cpu, broad_cpu;
   for (std::size_t f = 1; f < scene.frames.size(); ++f) {
-    for (std::size_t i = 0; i < objects.size(); ++i) objects[i]->setWorldTransform(bullet_transform(scene.frames[f][i]));
+    for (std::size_t i = 0; i < objects.size(); ++i)
+      objects[i]->setWorldTransform(bullet_transform(scene.frames[f][i]));
     const double cpu0 = cpu_seconds();
     start = Clock::now();
     world.updateAabbs();
@@ -406,8 +407,8 @@ Measure run_fcl(const Scene& scene, const PairSet* oracle) {
   std::vector<std::unique_ptr<fcl::CollisionObjectd>> objects;
   std::vector<fcl::CollisionObjectd*> pointers;
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
-    objects.push_back(std::make_unique<fcl::CollisionObjectd>(fcl_shape(scene.bodies[i].shape),
-                                                               fcl_transform(scene.frames[0][i])));
+    objects.push_back(
+        std::make_unique<fcl::CollisionObjectd>(fcl_shape(scene.bodies[i].shape), fcl_transform(scene.frames[0][i])));
     objects.back()->setUserData(reinterpret_cast<void*>(static_cast<std::uintptr_t>(i)));
     pointers.push_back(objects.back().get());
   }
@@ -469,7 +470,8 @@ void print(std::size_t n, const Measure& m) {
   if (m.missing >= 0) std::snprintf(missing, sizeof missing, "%ld/%ld", m.missing, m.extra);
   std::printf("| %6zu | %-32s | %d | %8.2f | %8.2f | %8.2f | %8.2f | %9.2f | %9.2f | %9zu | %7zu | %9s | %7.1f | %s\n",
               n, m.library.c_str(), m.threads, 1e3 * m.build, 1e3 * m.frame0, 1e3 * m.broadphase,
-              1e3 * m.broadphase_cpu, 1e3 * m.frame, 1e3 * m.frame_cpu, m.candidates, m.pairs, missing, m.memory_mb, m.note.c_str());
+              1e3 * m.broadphase_cpu, 1e3 * m.frame, 1e3 * m.frame_cpu, m.candidates, m.pairs, missing, m.memory_mb,
+              m.note.c_str());
   std::fflush(stdout);
 }
 
@@ -484,22 +486,32 @@ int main(int argc, char** argv) {
   PairQuery query = PairQuery::penetration;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--n" && i + 1 < argc) sizes = parse_list(argv[++i]);
-    else if (arg == "--threads" && i + 1 < argc) thread_counts = parse_list(argv[++i]);
-    else if (arg == "--frames" && i + 1 < argc) frames = std::max(1, std::atoi(argv[++i]));
-    else if (arg == "--query" && i + 1 < argc) query = std::string(argv[++i]) == "contact" ? PairQuery::contact : PairQuery::penetration;
-    else if (arg == "--no-peers") peers = false;
-    else if (arg == "--no-oracle") oracle_limit = 0;
+    if (arg == "--n" && i + 1 < argc)
+      sizes = parse_list(argv[++i]);
+    else if (arg == "--threads" && i + 1 < argc)
+      thread_counts = parse_list(argv[++i]);
+    else if (arg == "--frames" && i + 1 < argc)
+      frames = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--query" && i + 1 < argc)
+      query = std::string(argv[++i]) == "contact" ? PairQuery::contact : PairQuery::penetration;
+    else if (arg == "--no-peers")
+      peers = false;
+    else if (arg == "--no-oracle")
+      oracle_limit = 0;
     else if (arg == "--tree-study" && i + 1 < argc) {
       tree_update_study(static_cast<std::size_t>(std::atof(argv[++i])), 60, 0.1);
       return 0;
-    }
-    else {
-      std::fprintf(stderr, "usage: %s [--n 1000,10000] [--threads 1,2] [--frames 5] [--query penetration|contact] [--no-peers] [--no-oracle]\n", argv[0]);
+    } else {
+      std::fprintf(stderr,
+                   "usage: %s [--n 1000,10000] [--threads 1,2] [--frames 5] [--query penetration|contact] [--no-peers] "
+                   "[--no-oracle]\n",
+                   argv[0]);
       return 2;
     }
   }
-  std::printf("| N | library | threads | build ms | frame 0 ms | broadphase ms | broadphase CPU ms | frame ms | frame CPU ms | candidates | pairs | missed/extra | memory MB | note\n");
+  std::printf(
+      "| N | library | threads | build ms | frame 0 ms | broadphase ms | broadphase CPU ms | frame ms | frame CPU ms | "
+      "candidates | pairs | missed/extra | memory MB | note\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (std::size_t n : sizes) {
     const Scene scene = make_scene(n, frames, 42 + n);

@@ -96,7 +96,7 @@ Family make_family(const std::string& name, std::uint64_t seed) {
       f.b_rest.rotation = Eigen::AngleAxisd(M_PI / 2, Vec::UnitY()).toRotationMatrix();  // lying
     }
     if (base.rfind("cylinder", 0) == 0) f.b = Cylinder{0.25, 0.2, 0.0};  // standing on its cap
-  } else if (base.rfind("box_hull", 0) == 0) {  // a hull on a box
+  } else if (base.rfind("box_hull", 0) == 0) {                           // a hull on a box
     f.a = plate;
     f.b = slab_hull(rng, number(base), Vec(0.6, 0.5, 0.6), 0.2, margin);
   } else if (base.rfind("hull_box", 0) == 0) {  // a box on a hull
@@ -127,7 +127,8 @@ Trajectory make_motion(const Family& f, const std::string& motion, int frames, s
   for (int k = 0; k < frames; ++k) {
     if (motion == "still") {
       if (k > 0) {  // a solver's corrections
-        pose.rotation = Eigen::AngleAxisd(1e-6, hedra::trajectories::random_unit(rng)).toRotationMatrix() * pose.rotation;
+        pose.rotation =
+            Eigen::AngleAxisd(1e-6, hedra::trajectories::random_unit(rng)).toRotationMatrix() * pose.rotation;
         pose.translation += 1e-6 * t.size * Vec(g(rng), g(rng), 0.0);
       }
     } else if (motion == "sliding") {
@@ -245,8 +246,9 @@ void run_family(const std::string& name, const std::string& motion, int pairs, i
   row.cold = time_per_query(n, frames, repetitions,
                             [&](std::size_t i, int f) { sink = sink + timed_query_hedra(ts[i], f, nullptr).distance; });
   for (auto& c : caches) c = ContactCache{};
-  row.warm = time_per_query(n, frames, repetitions,
-                            [&](std::size_t i, int f) { sink = sink + timed_query_hedra(ts[i], f, &caches[i]).distance; });
+  row.warm = time_per_query(n, frames, repetitions, [&](std::size_t i, int f) {
+    sink = sink + timed_query_hedra(ts[i], f, &caches[i]).distance;
+  });
   if (bullet[0]) {
     row.bullet_cold = time_per_query(n, frames, repetitions, [&](std::size_t i, int f) {
       sink = sink + timed_query_bullet(*bullet[i], ts[i], f, false).points;
@@ -264,9 +266,9 @@ void run_family(const std::string& name, const std::string& motion, int pairs, i
   }
   const double best_bullet = std::min(row.bullet_warm, row.poly_warm);
   std::printf("| %s | %s | %.0f | %.0f | %.2f | %.0f %% | %.0f / %.0f | %.0f / %.0f | %.2f | %s | %.1e | %d |\n",
-              name.c_str(), motion.c_str(), row.cold, row.warm, row.cold / row.warm, 100.0 * row.hits,
-              row.bullet_cold, row.bullet_warm, row.poly_cold, row.poly_warm, row.warm / best_bullet,
-              row.algorithm.c_str(), row.max_diff, row.other_path);
+              name.c_str(), motion.c_str(), row.cold, row.warm, row.cold / row.warm, 100.0 * row.hits, row.bullet_cold,
+              row.bullet_warm, row.poly_cold, row.poly_warm, row.warm / best_bullet, row.algorithm.c_str(),
+              row.max_diff, row.other_path);
   std::fflush(stdout);
 }
 
@@ -295,14 +297,15 @@ int main(int argc, char** argv) {
   const int repetitions = args.size() > 2 ? std::atoi(args[2].c_str()) : 5;
   const std::string only = args.size() > 3 ? args[3] : "";
   if (pairs < 1 || frames < 1 || repetitions < 1) {
-    std::fprintf(stderr, "usage: resting_contact_benchmark [pairs>=1] [frames>=1] [repetitions>=1] [family-prefix] "
-                         "[--callgrind cold|warm|bullet|bullet_polyhedral]\n");
+    std::fprintf(stderr,
+                 "usage: resting_contact_benchmark [pairs>=1] [frames>=1] [repetitions>=1] [family-prefix] "
+                 "[--callgrind cold|warm|bullet|bullet_polyhedral]\n");
     return 2;
   }
-  const char* families[] = {"hull8",         "hull24",         "equal_hull24",    "hull200",         "hull1000",
-                            "rounded_hull24", "box_hull24",    "box_hull200",     "hull_box200",
-                            "rounded_box_hull24", "sphere_box", "sphere_hull",    "capsule_box",
-                            "capsule_hull",  "cylinder_box",   "cylinder_hull"};
+  const char* families[] = {"hull8",          "hull24",      "equal_hull24", "hull200",      "hull1000",
+                            "rounded_hull24", "box_hull24",  "box_hull200",  "hull_box200",  "rounded_box_hull24",
+                            "sphere_box",     "sphere_hull", "capsule_box",  "capsule_hull", "cylinder_box",
+                            "cylinder_hull"};
   const char* motions[] = {"still", "sliding", "settling"};
   if (callgrind.empty() && !g_answers)
     std::printf(
@@ -311,8 +314,7 @@ int main(int argc, char** argv) {
         "/ size | frames on another path |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const char* family : families) {
     const std::string only_family = only.substr(0, only.find('/'));
-    if (only.find('/') != std::string::npos ? only_family != family : std::string(family).rfind(only, 0) != 0)
-      continue;
+    if (only.find('/') != std::string::npos ? only_family != family : std::string(family).rfind(only, 0) != 0) continue;
     for (const char* motion : motions) {
       const std::string want = only.find('/') != std::string::npos ? only.substr(only.find('/') + 1) : "";
       if (!want.empty() && want != motion) continue;

@@ -80,10 +80,11 @@ int main(int argc, char** argv) {
   } else {
     std::printf("%s\n", model_path.c_str());
     for (const auto& r : runs)
-      std::printf("  %-16s steps %d  max_drift %.3g m  max_displacement %.3g m  max_penetration %.3g m  "
-                  "mean_contacts %.2f  step_us %.1f  nan %s\n",
-                  r.narrowphase.c_str(), r.steps, r.max_drift, r.max_displacement, r.max_penetration,
-                  r.mean_contacts, r.step_us, r.nan ? "yes" : "no");
+      std::printf(
+          "  %-16s steps %d  max_drift %.3g m  max_displacement %.3g m  max_penetration %.3g m  "
+          "mean_contacts %.2f  step_us %.1f  nan %s\n",
+          r.narrowphase.c_str(), r.steps, r.max_drift, r.max_displacement, r.max_penetration, r.mean_contacts,
+          r.step_us, r.nan ? "yes" : "no");
   }
   return 0;
 }

@@ -16,9 +16,9 @@
 extern "C" {
 
 struct HedraBulletDispatchResult {
-  int points;            // contact points in the pair's manifold after the call
-  double deepest;        // the smallest distance among them (< 0 penetration)
-  char algorithm[96];    // the algorithm's class (demangled)
+  int points;          // contact points in the pair's manifold after the call
+  double deepest;      // the smallest distance among them (< 0 penetration)
+  char algorithm[96];  // the algorithm's class (demangled)
 };
 
 typedef void* (*HedraBulletDispatchPrepare)(const HedraBulletShape* a, const HedraBulletShape* b, int polyhedral);

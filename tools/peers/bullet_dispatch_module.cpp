@@ -3,9 +3,9 @@
 // processCollision fills the pair's persistent manifold. Shapes are built
 // as bullet_module.cpp builds them (margins set to hedra's, boxes and
 // cylinders at core + margin).
+#include <btBulletCollisionCommon.h>
 #include <cxxabi.h>
 
-#include <btBulletCollisionCommon.h>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>

@@ -308,7 +308,8 @@ BodySpec read_body(const std::string& name, const json& value, const std::string
   body.name = name;
   const std::string shape = string(require(value, path, "shape"), member(path, "shape"));
   body.shape = find_index(shape_names, shape);
-  if (body.shape == shape_names.size()) fail(member(path, "shape"), "unknown shape '" + shape + "'" + did_you_mean(shape_names, shape));
+  if (body.shape == shape_names.size())
+    fail(member(path, "shape"), "unknown shape '" + shape + "'" + did_you_mean(shape_names, shape));
   if (const json* p = optional_member(value, "position")) body.position = position(*p, member(path, "position"));
   if (const json* q = optional_member(value, "orientation"))
     body.orientation = quaternion(*q, member(path, "orientation"));

@@ -235,7 +235,8 @@ QueryOutcome run_cast(const collision::Shape& a, const BodySpec& body_a, const c
   const collision::Pose pb = body_b.pose();
   const Eigen::Vector3d ua = body_a.end_position - body_a.position;
   const Eigen::Vector3d ub = body_b.end_position - body_b.position;
-  set_cast(out, timed(repeat, out.time_ns, [&] { return collision::shape_cast(a, pa, ua, b, pb, ub, nullptr, settings); }),
+  set_cast(out,
+           timed(repeat, out.time_ns, [&] { return collision::shape_cast(a, pa, ua, b, pb, ub, nullptr, settings); }),
            settings.target_distance + settings.linear_slop);
   return out;
 }

@@ -44,7 +44,7 @@ struct ContactPoint {
 struct QueryOutcome {
   QueryType type = QueryType::distance;
   std::size_t body_a = 0, body_b = 0;  // indices into Scene::bodies (raycast: both the body)
-  std::string status = "ok";  // collision::to_string(Status), or "non_finite"
+  std::string status = "ok";           // collision::to_string(Status), or "non_finite"
   bool intersecting = false;
   std::optional<double> distance;          // signed for penetration and contact
   std::optional<Eigen::Vector3d> normal;   // unit, world, from A toward B

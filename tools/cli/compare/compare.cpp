@@ -161,9 +161,9 @@ Judgement judge(QueryType type, const ReferenceAnswer& reference, const MethodAn
       at_float ? std::max(reference.tolerance,
                           reference.exact.error_bound + kSinglePrecisionRelativeTolerance * reference.pair_size)
                : reference.tolerance;
-  const double angle_tolerance =
-      answer.single_precision ? std::max(reference.angle_tolerance, kSinglePrecisionRelativeTolerance)
-                              : reference.angle_tolerance;
+  const double angle_tolerance = answer.single_precision
+                                     ? std::max(reference.angle_tolerance, kSinglePrecisionRelativeTolerance)
+                                     : reference.angle_tolerance;
 
   if (const std::optional<bool> expected = reference.intersecting()) {
     const std::string said = std::string("intersecting ") + (answer.intersecting ? "true" : "false");
@@ -678,8 +678,9 @@ std::string format_compare_text(const CompareReport& report) {
     const QuerySpec& spec = scene.queries[q.index];
     const reference::ExactResult& e = q.reference.exact;
     // A ray is ray-<body>, as in `query` and `check`.
-    const std::string pair = spec.type == QueryType::raycast ? "ray-" + scene.bodies[spec.a].name
-                                                             : scene.bodies[spec.a].name + "-" + scene.bodies[spec.b].name;
+    const std::string pair = spec.type == QueryType::raycast
+                                 ? "ray-" + scene.bodies[spec.a].name
+                                 : scene.bodies[spec.a].name + "-" + scene.bodies[spec.b].name;
     text += "\n[" + std::to_string(q.index) + "] " + pair + " " + to_string(spec.type) + ": reference ";
     const bool continuous = q.reference.continuous.has_value();
     if (continuous) {
@@ -764,7 +765,8 @@ Json json_answer(const JudgedAnswer& j, bool peer) {
   r["normal"] = json_vector(a.normal);
   r["point_a"] = json_vector(a.point_a);
   r["point_b"] = json_vector(a.point_b);
-  r["time_ns"] = a.time_ns > 0.0 && std::isfinite(a.time_ns) ? Json(static_cast<long long>(std::llround(a.time_ns))) : Json(nullptr);
+  r["time_ns"] = a.time_ns > 0.0 && std::isfinite(a.time_ns) ? Json(static_cast<long long>(std::llround(a.time_ns)))
+                                                             : Json(nullptr);
   if (peer) r["normal_angle_to_hedra"] = json_number(j.normal_angle_to_hedra);
   r["verdict"] = to_string(j.judgement.verdict);
   r["detail"] = j.judgement.detail;

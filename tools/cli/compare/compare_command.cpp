@@ -54,7 +54,10 @@ Subcommand add_compare_command(CLI::App& app) {
       "exact reference (exit 1 when hedra disagrees with it)");
   command->add_option("scene", options->scene, "Scene file (JSON, see the README)")->required();
   command->add_flag("--json", options->json, "Print the comparison as one JSON document");
-  command->add_option("--repeat", options->repeat, "Time each method N times per query after an untimed warm-up call and report the median (default 21)")
+  command
+      ->add_option(
+          "--repeat", options->repeat,
+          "Time each method N times per query after an untimed warm-up call and report the median (default 21)")
       ->check(whole_number_in(1, kMaxRepeat, "repeat count"))
       ->type_name("N");
   command

@@ -20,7 +20,8 @@ enum class CastStatus {
   max_iterations,         // the cap was hit: `fraction` is safe (no contact before it), no verdict
   stalled,                // rounding stopped the iteration above the tolerance: `fraction` is safe, no verdict
   degenerate,             // a non-finite support point appeared (NaN/inf reached the shapes)
-  invalid_input,          // a shape failed validate(), a pose is not Pose::valid(), a motion or ray is not finite, out of range or zero
+  invalid_input,  // a shape failed validate(), a pose is not Pose::valid(), a motion or ray is not finite, out of range
+                  // or zero
 };
 
 inline const char* to_string(CastStatus status) {

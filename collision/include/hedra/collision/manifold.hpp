@@ -243,7 +243,7 @@ struct BoxPairMemory {
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero(), point_b = Eigen::Vector3d::Zero();
   int count = 0;
   std::array<ContactPoint, kMaxContactPoints> points{};  // A's frame
-  int edge_pairs = 0, clipped_points = 0;                 // its ContactStats
+  int edge_pairs = 0, clipped_points = 0;                // its ContactStats
 };
 
 struct ContactCache {

@@ -52,10 +52,10 @@ enum class Status {
   ok,              // outputs valid
   max_iterations,  // GJK or EPA hit its cap: outputs are the best so far, no verdict
   degenerate,      // a non-finite support point appeared
-  invalid_input,   // a shape failed validate(), a pose is not Pose::valid() (not a rotation within rotation_tolerance, non-finite, beyond max_coordinate)
-                   // or the pair is out of range (pair_in_range())
-  polytope_full,   // EPA's fixed-capacity polytope ran out: best so far, see error_bound
-  stalled,         // GJK or EPA stopped progressing (rounding) above the tolerance: best so far, see error_bound
+  invalid_input,   // a shape failed validate(), a pose is not Pose::valid() (not a rotation within rotation_tolerance,
+                  // non-finite, beyond max_coordinate) or the pair is out of range (pair_in_range())
+  polytope_full,  // EPA's fixed-capacity polytope ran out: best so far, see error_bound
+  stalled,        // GJK or EPA stopped progressing (rounding) above the tolerance: best so far, see error_bound
 };
 
 const char* to_string(Status status);

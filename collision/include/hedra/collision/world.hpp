@@ -102,24 +102,24 @@ struct PairSettings {
 
 // What the last pairs() did (for benchmarks and tuning).
 struct WorldStats {
-  std::size_t candidates = 0;  // pairs whose grown boxes overlap and that pass the filter
-  std::size_t pairs = 0;       // pairs reported
-  bool rebuilt = false;        // the tree was rebuilt (else refitted or unchanged)
-  double tree_cost_ratio = 1.0;  // the tree's cost over its cost at the last build
-  double update_seconds = 0.0;   // boxes + refit or rebuild
-  double query_seconds = 0.0;    // traversal + queries + merge
+  std::size_t candidates = 0;       // pairs whose grown boxes overlap and that pass the filter
+  std::size_t pairs = 0;            // pairs reported
+  bool rebuilt = false;             // the tree was rebuilt (else refitted or unchanged)
+  double tree_cost_ratio = 1.0;     // the tree's cost over its cost at the last build
+  double update_seconds = 0.0;      // boxes + refit or rebuild
+  double query_seconds = 0.0;       // traversal + queries + merge
   double broadphase_seconds = 0.0;  // of which traversal and sort (steps 1 and 2)
   double serial_seconds = 0.0;      // on the calling thread alone: refit or build, sort, merge
-  std::size_t memory_bytes = 0;  // the world's own arrays (capacity), shapes' hulls excluded
+  std::size_t memory_bytes = 0;     // the world's own arrays (capacity), shapes' hulls excluded
 };
 
 // Bodies (shape + pose + collision filter), a BVH over their tight world boxes, and the all-pairs query.
 class World {
  public:
   static constexpr std::uint32_t kInvalidBody = 0xFFFFFFFFu;
-  static constexpr double kTouchingBand = 1e-9;   // kept beyond max_distance: this fraction of the pair's size
-  static constexpr double kBoxBand = 1e-8;        // boxes grown by this fraction of the body's size
-  static constexpr double kBoxRounding = 1e-12;   // and this fraction of its coordinates' magnitude
+  static constexpr double kTouchingBand = 1e-9;  // kept beyond max_distance: this fraction of the pair's size
+  static constexpr double kBoxBand = 1e-8;       // boxes grown by this fraction of the body's size
+  static constexpr double kBoxRounding = 1e-12;  // and this fraction of its coordinates' magnitude
   static constexpr std::size_t kLeafSize = 4;
   static constexpr double kRebuildCostRatio = 1.5;
 
@@ -129,9 +129,10 @@ class World {
   std::size_t size() const { return shapes_.size(); }
   const Shape& shape(std::uint32_t body) const { return shapes_[body]; }
   const Pose& pose(std::uint32_t body) const { return poses_[body]; }
-  bool ignore_pair(std::uint32_t i, std::uint32_t j);    // false if an index is out of range or i == j
-  bool set_pose(std::uint32_t body, const Pose& pose);   // false if out of range or !pose.valid()
-  bool set_poses(const Pose* poses, std::size_t count);  // count == size(); false (nothing changed) otherwise or if any is invalid
+  bool ignore_pair(std::uint32_t i, std::uint32_t j);   // false if an index is out of range or i == j
+  bool set_pose(std::uint32_t body, const Pose& pose);  // false if out of range or !pose.valid()
+  bool set_poses(const Pose* poses,
+                 std::size_t count);  // count == size(); false (nothing changed) otherwise or if any is invalid
   // Every pair (a < b) that passes the filter (group_a & mask_b and group_b & mask_a non-zero, not ignored)
   // and whose distance is <= max_distance, sorted by (a, b); the same result for any thread count.
   // Clears and fills `out` (it may allocate as it grows; reuse it across frames).
@@ -178,8 +179,8 @@ class World {
   std::vector<std::uint64_t> ignored_;  // sorted keys (a << 32 | b), a < b
   // The tree.
   std::vector<Node> nodes_;
-  std::vector<std::uint32_t> order_;  // body indices in leaf order
-  std::vector<Aabb> leaf_boxes_;      // boxes_[order_[k]] at position k
+  std::vector<std::uint32_t> order_;      // body indices in leaf order
+  std::vector<Aabb> leaf_boxes_;          // boxes_[order_[k]] at position k
   std::vector<Eigen::Vector3d> centres_;  // build scratch
   std::size_t tree_bodies_ = 0;
   double built_cost_ = 0.0;
