@@ -34,6 +34,7 @@
 
 #include "box_box_detail.hpp"
 #include "contact_choice.hpp"
+#include "contact_depth.hpp"
 
 namespace hedra::collision::detail {
 namespace box_box {
@@ -201,7 +202,7 @@ void emit(Candidate* c, int count, const Vec& normal, const Pair& p, Local& out)
 }
 
 // manifold.cpp's build_manifold for a sharp pair on axis `best`.
-Built build(const Pair& p, const SatAxis& best, double exact_limit, const ContactSettings& settings, Local& out,
+Built build(const Pair& p, const SatAxis& best, double exact_limit, Local& out,
             int& clipped) {
   std::array<Candidate, kMaxContactPoints> c;
   int count = 0;
@@ -234,10 +235,10 @@ Built build(const Pair& p, const SatAxis& best, double exact_limit, const Contac
   // bounds their distance from below, the candidate from above): the
   // closest features are no face's interior, the exact normal decides.
   if (apart && count > 0 && deepest > best.separation + p.band) return Built::exact_normal;
-  const double bias = settings.relative_bias * std::abs(best.separation) + settings.absolute_bias * p.scale;
-  const double held = p.last ? p.hold : 0.0;
-  const double limit = std::min(best.separation + bias, exact_limit) + held;
-  if (count == 0 || deepest > limit) return Built::general;  // penetration()'s point
+  if (count == 0) return Built::general;  // penetration()'s point
+  // The deepest vertex clipped away (contact_depth.hpp): the exact normal decides.
+  if (deepest_short_of_axis(deepest, best.separation, exact_limit, p.band, p.last ? p.hold : 0.0))
+    return Built::exact_normal;
   emit(c.data(), count, best.normal, p, out);
   if (out.count == 0) {  // nothing within the contact distance: the axis
     out.distance = best.separation;
@@ -505,7 +506,7 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
       const double largest = std::max({axes.face_a.separation, axes.face_b.separation, axes.edge.separation});
       const double limit = largest <= p.band ? largest + p.band : std::numeric_limits<double>::infinity();
       const SatAxis chosen = used;
-      Built built = build(p, used, limit, settings, local, clipped);
+      Built built = build(p, used, limit, local, clipped);
       if (built == Built::exact_normal) {
         clipped = 0;
         built = exact_normal(p, a, pose_a, b, pose_b, cache, settings, local, clipped, used);

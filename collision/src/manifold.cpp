@@ -12,6 +12,7 @@
 
 #include "box_box.hpp"
 #include "contact_choice.hpp"
+#include "contact_depth.hpp"
 #include "face_certificate.hpp"
 #include "segment_box.hpp"
 
@@ -884,21 +885,20 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
     remember(cache, used);
     return r;
   }
+  // A face too large for the fixed buffers, or an incident face entirely
+  // outside the reference face's side planes: one point from penetration().
+  if (!built || candidates.size == 0) return fallback();
   // The incident shape's deepest vertex clipped away by the reference face's
-  // side planes (deep contacts near an edge): the kept points would be
-  // shallower than the axis by more than the bias allows, or shallower than
-  // the pair's exact separation (exact_limit, the cores' when known, with
-  // its tolerance: the deepest point is never shallower than the exact
-  // depth, but for the last frame's points a warm query holds: at most
-  // pp.hold shallower than the deepest candidate).
-  const double bias = settings.relative_bias * std::abs(best.separation) + settings.absolute_bias * pp.scale;
+  // side planes (contact_depth.hpp): no point on the two surfaces is as deep
+  // as the overlap along the axis, so the exact normal decides.
   const double held = pp.last ? pp.hold : 0.0;
-  const double limit = std::min(axis_separation + bias, exact_limit - (shifted ? ra + rb : 0.0)) + held;
-  const bool deepest_clipped = deepest > limit;
-  // A face too large for the fixed buffers, an incident face entirely
-  // outside the reference face's side planes, or its deepest vertex outside
-  // them: one point from penetration().
-  if (!built || candidates.size == 0 || deepest_clipped) return fallback();
+  if (detail::deepest_short_of_axis(deepest, axis_separation, exact_limit - (shifted ? ra + rb : 0.0), pp.band,
+                                    held)) {
+    SatAxis used;
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, fallback(), stats, settings, used);
+    remember(cache, used);
+    return r;
+  }
   emit(candidates, normal, shifted ? 0.0 : ra, shifted ? 0.0 : rb, pp.keep, ties, world, out);
   if (out.count == 0) {
     // Nothing within the contact distance after clipping (a gap along the
