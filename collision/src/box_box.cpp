@@ -152,6 +152,7 @@ void closest_on_segments(const Vec& p0, const Vec& u, const Vec& q0, const Vec& 
 struct Local {
   ContactPath path = ContactPath::none;
   double distance = 0.0;
+  double error_bound = std::numeric_limits<double>::infinity();  // ContactResult's (before rounding)
   Vec normal = Vec::Zero();
   Vec point_a = Vec::Zero(), point_b = Vec::Zero();
   bool witnesses = false;  // point_a, point_b set
@@ -266,6 +267,7 @@ Built exact_normal(const Pair& p, const Box& a, const Pose& pose_a, const Box& b
     out.in_world = true;
     out.path = ContactPath::single_point;
     out.distance = pen.distance;
+    out.error_bound = pen.error_bound;
     out.normal = pen.normal;
     out.point_a = pen.point_a;
     out.point_b = pen.point_b;
@@ -340,6 +342,7 @@ Built exact_normal(const Pair& p, const Box& a, const Pose& pose_a, const Box& b
   face.path = of_a ? ContactPath::face_a : ContactPath::face_b;
   emit(c.data(), count, n, p, face);
   if (face.count == 0) return Built::answered;  // the single point
+  face.error_bound = bound_within(face.distance, face.error_bound, pen.distance, pen.error_bound);
   out = face;
   clipped = face_clipped;
   return Built::answered;
@@ -357,6 +360,7 @@ void place(const Local& l, const Pose& pose_a, ContactResult& out) {
   out.status = Status::ok;
   out.path = l.path;
   out.distance = l.distance;
+  out.error_bound = l.error_bound;
   out.intersecting = l.intersecting;
   out.count = l.count;
   if (l.in_world) {
@@ -398,6 +402,7 @@ bool recycle(const ContactCache& cache, const RelativePose& rel, const std::arra
   Local l;
   l.path = m.path;
   l.distance = m.distance;
+  l.error_bound = m.error_bound;
   l.normal = m.normal;
   l.point_a = m.point_a;
   l.point_b = m.point_b;
@@ -469,6 +474,7 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
       m.inputs = inputs;
       m.path = local.path;
       m.distance = local.distance;
+      m.error_bound = local.error_bound;
       m.normal = local.normal;
       m.point_a = local.point_a;
       m.point_b = local.point_b;
@@ -513,6 +519,10 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
         recyclable = false;  // GJK's warm start moves with the cache
       }
       if (built == Built::general) return hand_back();
+      // Overlapping: SAT's largest separation is exact; apart (within the
+      // contact distance), a lower bound and the points' gap an upper one.
+      if (local.count > 0 || largest <= p.band)
+        local.error_bound = bound_within(local.distance, local.error_bound, largest, 0.0);
       // penetration()'s point where the cache's kept face of B was chosen
       // against the cold choice: the general path builds the cold one.
       if (local.path == ContactPath::single_point && choose_axis(axes, nullptr, settings, p.scale).kind != chosen.kind)

@@ -18,6 +18,8 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace hedra::collision::detail {
 
@@ -28,6 +30,20 @@ namespace hedra::collision::detail {
 // warm query's held points may be.
 inline bool deepest_short_of_axis(double deepest, double axis, double exact_limit, double band, double held) {
   return deepest > std::min(axis + band, exact_limit) + held;
+}
+
+// The error bound of an answer of distance d whose exact signed distance is
+// known to lie within `radius` of `center` (a bracket's midpoint and half
+// width): |d - center| + radius, or the answer's own bound if smaller (both
+// hold). ContactResult::error_bound starts at +infinity (nothing certified).
+inline double bound_within(double d, double current, double center, double radius) {
+  return std::min(current, std::abs(d - center) + radius);
+}
+
+// Rounding of the contact geometry: a few hundred ulps of the pair's size
+// and of the distance between the two poses (the relative pose).
+inline double contact_rounding(double size, double separation_of_poses) {
+  return 256.0 * std::numeric_limits<double>::epsilon() * (size + separation_of_poses);
 }
 
 }  // namespace hedra::collision::detail

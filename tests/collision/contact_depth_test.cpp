@@ -161,5 +161,59 @@ TEST(ContactDepth, CachedAxisClippingDropsDeepestIncidentVertex) {
   check_depths(hard_pairs(160, 20261130), ContactSettings{}, true);
 }
 
+// The certified bound: the exact reference's signed distance lies within
+// error_bound of the reported distance on every pair (penetrating, and moved
+// apart to a gap within the contact distance), cold and warm; the bound's
+// median and largest over the size per family. A pair separated beyond the
+// contact distance (some generated pairs are) may answer with a lower bound
+// and an infinite error bound.
+void check_bounds(const std::vector<Pair>& pairs, bool warm) {
+  std::map<std::string, std::vector<double>> bounds;
+  int checked = 0;
+  for (const Pair& pair : pairs) {
+    for (const bool apart : {false, true}) {
+      Pair p = pair;
+      const double size = size_of(p);
+      ContactSettings settings;
+      if (apart) {
+        const PenetrationResult pen = penetration(p.a, p.pa, p.b, p.pb);
+        if (pen.status != Status::ok) continue;
+        p.pb.translation += (0.02 * size - pen.distance) * pen.normal;  // 2 % of the size apart
+        settings.contact_distance = 0.05 * size;
+      }
+      ContactCache cache;
+      ContactResult c = contact(p.a, p.pa, p.b, p.pb, warm ? &cache : nullptr, settings);
+      if (warm) c = contact(p.a, p.pa, p.b, p.pb, &cache, settings);
+      if (c.status != Status::ok) continue;
+      const reference::ExactResult exact = reference::exact_signed_distance(p.a, p.pa, p.b, p.pb);
+      if (!exact.ok) continue;
+      ++checked;
+      // Only a pair separated beyond the contact distance may come without a
+      // finite bound (its distance a lower bound).
+      if (c.path == ContactPath::separated && !std::isfinite(c.error_bound)) {
+        EXPECT_LE(c.distance, exact.distance + exact.error_bound + 1e-12 * size) << p.family;
+        continue;
+      }
+      EXPECT_TRUE(std::isfinite(c.error_bound)) << p.family << (apart ? " apart" : " penetrating") << " path "
+                                                 << to_string(c.path) << " distance " << c.distance << " exact "
+                                                 << exact.distance << " size " << size;
+      EXPECT_LE(std::abs(c.distance - exact.distance), c.error_bound + exact.error_bound)
+          << p.family << (apart ? " apart" : " penetrating") << " path " << to_string(c.path) << " distance "
+          << c.distance << " exact " << exact.distance;
+      bounds[p.family + (apart ? "/apart" : "")].push_back(c.error_bound / size);
+    }
+  }
+  EXPECT_GT(checked, static_cast<int>(pairs.size()));
+  for (auto& [family, b] : bounds) {
+    std::sort(b.begin(), b.end());
+    std::printf("%-16s pairs %4zu  error_bound / size: median %.3g, max %.3g\n", family.c_str(), b.size(),
+                b[b.size() / 2], b.back());
+  }
+}
+
+TEST(ContactDepth, ErrorBoundHoldsAgainstTheExactReference) { check_bounds(hard_pairs(40, 20261131), false); }
+
+TEST(ContactDepth, WarmErrorBoundHoldsAgainstTheExactReference) { check_bounds(hard_pairs(40, 20261132), true); }
+
 }  // namespace
 }  // namespace hedra::collision

@@ -132,6 +132,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/sat.hpp>
 
@@ -239,6 +240,7 @@ struct BoxPairMemory {
   std::array<double, 12> inputs{};  // half extents, margins and settings it was computed with
   ContactPath path = ContactPath::none;
   double distance = 0.0;
+  double error_bound = 0.0;
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // A's frame
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero(), point_b = Eigen::Vector3d::Zero();
   int count = 0;
@@ -275,6 +277,13 @@ struct ContactResult {
   // axis. For a polytope pair separated beyond the contact distance it is
   // the SAT separation, a lower bound on the distance.
   double distance = 0.0;
+  // Certified: the exact signed distance of the two shapes lies in
+  // [distance - error_bound, distance + error_bound] (rounding included).
+  // It covers the face bias (a face kept while another axis overlaps less)
+  // and penetration()'s own bound on the paths that use it. +infinity when
+  // nothing bounds it: the pair separated beyond the contact distance (path
+  // `separated`: the distance only a lower bound), or invalid input.
+  double error_bound = std::numeric_limits<double>::infinity();
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, from A toward B, world
   // The deepest point's witnesses on A and B (world).
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
