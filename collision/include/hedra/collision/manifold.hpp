@@ -41,7 +41,12 @@
 //     challenger must beat the incumbent by relative_bias |s| +
 //     absolute_bias scale, so a tilt of 1e-6 rad never flips the manifold.
 //     The reported depth is therefore at most that bias above the exact
-//     penetration depth.
+//     penetration depth (ContactResult::error_bound says by how much). It
+//     is the overlap along the reported normal, h_A(n) + h_B(-n), and the
+//     deepest point is that deep: a face contact whose clipping cut away
+//     the incident shape's deepest vertex (no point can be as deep as its
+//     axis) follows the exact normal as for cores apart below
+//     (contact_depth.hpp).
 //   * a capsule against a polytope: the penetration normal (penetration());
 //     when it is within face_angle_tolerance of a face normal of the
 //     polytope the capsule's segment is clipped by that face's side planes
@@ -78,9 +83,7 @@
 // normal: the incident face clipped by the reference face's side planes
 // swept along n, each point's depth the gap of the rounded surfaces on its
 // line along n (both sides' exits from their grown cores), the deepest
-// penetration()'s; otherwise penetration()'s point. A face contact whose kept points are
-// shallower than its axis by more than the bias (the deepest incident
-// vertex clipped away) is penetration()'s point too.
+// penetration()'s; otherwise penetration()'s point.
 //
 // Points. Each ContactPoint holds the midpoint between the two surfaces and
 // the depth along the normal: the point on A is point + (depth / 2) normal,
