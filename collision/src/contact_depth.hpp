@@ -17,8 +17,10 @@
 // (ContactSettings::hold, at most that much shallower).
 #pragma once
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <hedra/collision/shapes.hpp>
 #include <limits>
 
 namespace hedra::collision::detail {
@@ -40,10 +42,19 @@ inline double bound_within(double d, double current, double center, double radiu
   return std::min(current, std::abs(d - center) + radius);
 }
 
+// A size at least the shape's bounding radius, without a square root (for
+// the rounding allowance below: a few instructions on the hot path).
+inline double rough_size(const Sphere& s) { return s.radius + s.margin; }
+inline double rough_size(const Box& s) { return s.half_extents.cwiseAbs().sum() + s.margin; }
+inline double rough_size(const Capsule& s) { return s.radius + s.half_length + s.margin; }
+inline double rough_size(const Cylinder& s) { return s.radius + s.half_length + s.margin; }
+inline double rough_size(const Cone& s) { return s.radius + s.half_length + s.margin; }
+inline double rough_size(const Polyhedron& s) { return s.hull->bounding_radius() + s.margin; }
+
 // Rounding of the contact geometry: a few hundred ulps of the pair's size
-// and of the distance between the two poses (the relative pose).
-inline double contact_rounding(double size, double separation_of_poses) {
-  return 256.0 * std::numeric_limits<double>::epsilon() * (size + separation_of_poses);
+// and of the distance between the two poses (the relative pose; its 1-norm).
+inline double contact_rounding(double size, const Eigen::Vector3d& between_poses) {
+  return 256.0 * std::numeric_limits<double>::epsilon() * (size + between_poses.cwiseAbs().sum());
 }
 
 }  // namespace hedra::collision::detail

@@ -1756,16 +1756,18 @@ ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const 
     out.status = Status::invalid_input;
     return out;
   }
-  ContactResult r = std::visit(
-      [&](const auto& sa, const auto& sb) { return contact_typed(a, sa, pose_a, b, sb, pose_b, cache, settings); }, a,
-      b);
-  if (r.status == Status::invalid_input || r.status == Status::degenerate)
-    r.error_bound = std::numeric_limits<double>::infinity();
-  else if (std::isfinite(r.error_bound))
-    r.error_bound += detail::contact_rounding(bounding_radius(a) + bounding_radius(b),
-                                              (pose_b.translation - pose_a.translation).norm());
-  HEDRA_ASSERT(r.error_bound >= 0.0);  // manifold.hpp: a bound, never NaN
-  return r;
+  return std::visit(
+      [&](const auto& sa, const auto& sb) {
+        ContactResult r = contact_typed(a, sa, pose_a, b, sb, pose_b, cache, settings);
+        if (r.status == Status::invalid_input || r.status == Status::degenerate)
+          r.error_bound = std::numeric_limits<double>::infinity();
+        else if (std::isfinite(r.error_bound))
+          r.error_bound += detail::contact_rounding(detail::rough_size(sa) + detail::rough_size(sb),
+                                                    pose_b.translation - pose_a.translation);
+        HEDRA_ASSERT(r.error_bound >= 0.0);  // manifold.hpp: a bound, never NaN
+        return r;
+      },
+      a, b);
 }
 
 }  // namespace hedra::collision
