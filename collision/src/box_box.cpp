@@ -181,7 +181,14 @@ void emit(Candidate* c, int count, const Vec& normal, const Pair& p, Local& out)
     for (int k = 1; k < kept; ++k)
       if (c[keep[k]].separation < c[keep[0]].separation) std::swap(keep[0], keep[k]);
   } else {
-    out.count = reduce(c, kept, normal, p.band, p.tolerance, keep);
+    std::array<Vec, kMaxContactPoints + 1> on_b;
+    std::array<double, kMaxContactPoints + 1> separation;
+    HEDRA_ASSERT(kept <= kMaxContactPoints + 1);
+    for (int i = 0; i < kept; ++i) {
+      on_b[i] = c[i].on_b;
+      separation[i] = c[i].separation;
+    }
+    out.count = reduce(on_b.data(), separation.data(), kept, normal, p.band, p.tolerance, keep);
   }
   out.normal = normal;
   for (int k = 0; k < out.count; ++k) {
