@@ -362,6 +362,12 @@ FeatureId FaceClipper::id_of(int i, const Vec& on_ref) const {
 bool FaceClipper::same_as_last(const std::array<FeatureId, kMaxContactPoints>& ids, int kept) const {
   const ContactCache& last = *pair_.last;
   if (last.kept_count != kept) return false;
+  // The common case first: the same ids in the same order, all distinct.
+  bool in_order = true;
+  for (int i = 0; i < kept && in_order; ++i) in_order = last.kept[i] == ids[i];
+  for (int i = 0; i < kept && in_order; ++i)
+    for (int k = i + 1; k < kept && in_order; ++k) in_order = ids[k] != ids[i];
+  if (in_order) return true;
   for (int i = 0; i < kept; ++i) {
     int matches = 0;
     for (int k = 0; k < kept; ++k) matches += last.kept[k] == ids[i];
