@@ -205,8 +205,14 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
   std::array<double, kMaxPolygon> sep;
   std::array<int, kMaxPolygon> from;
   int count = 0;
+  // A face of A along its normal: n_ is an axis vector and the slope 1, so
+  // the separation is one coordinate less the offset, bit for bit.
+  const int normal_axis = static_cast<int>(ref_face_ >> 1);
+  const bool positive = axis_aligned_ && n_[normal_axis] > 0.0;
+  HEDRA_ASSERT(!axis_aligned_ || std::abs(n_[normal_axis]) == 1.0);
   for (int i = 0; i < src->count; ++i) {
-    const double s = (n_.dot(src->p[i]) - offset) / slope;
+    const double s = axis_aligned_ ? (positive ? src->p[i][normal_axis] : -src->p[i][normal_axis]) - offset
+                                   : (n_.dot(src->p[i]) - offset) / slope;
     if (s <= max_separation) {
       from[count] = i;
       sep[count++] = s;
