@@ -31,8 +31,9 @@ const BoxTopology& topology() {
       out.normal[f] = m.plane(f).normal;
       HEDRA_ASSERT(out.normal[f].cwiseAbs().sum() == 1.0);  // exactly an axis vector
       for (int j = 0; j < 4; ++j) {  // the edge's direction x the normal: one axis, any half extents
-        const Vec c = (corner(Vec::Ones(), out.face_vertex[f][(j + 1) & 3]) - corner(Vec::Ones(), out.face_vertex[f][j]))
-                          .cross(out.normal[f]);
+        const Vec c =
+            (corner(Vec::Ones(), out.face_vertex[f][(j + 1) & 3]) - corner(Vec::Ones(), out.face_vertex[f][j]))
+                .cross(out.normal[f]);
         const int i = c.x() != 0.0 ? 0 : (c.y() != 0.0 ? 1 : 2);
         HEDRA_ASSERT(c.squaredNorm() == c[i] * c[i]);
         out.side_axis[f][j] = i;
