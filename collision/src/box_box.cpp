@@ -85,9 +85,10 @@ void edge_axes(const Pair& p, double parallel_tolerance, double floor, Axes& out
   int best_i = -1, best_j = -1;
   bool flip = false;
   for (int i = 0; i < 3; ++i) {
-    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    constexpr int kNext[3] = {1, 2, 0}, kAfter[3] = {2, 0, 1};
+    const int i1 = kNext[i], i2 = kAfter[i];
     for (int j = 0; j < 3; ++j) {
-      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const int j1 = kNext[j], j2 = kAfter[j];
       const double len2 = 1.0 - r(i, j) * r(i, j);
       if (!(len2 > parallel_tolerance * parallel_tolerance)) continue;
       const double nt = t[i2] * r(i1, j) - t[i1] * r(i2, j);
@@ -183,7 +184,14 @@ void emit(Candidate* c, int count, const Vec& normal, const Pair& p, Local& out)
     for (int k = 1; k < kept; ++k)
       if (c[keep[k]].separation < c[keep[0]].separation) std::swap(keep[0], keep[k]);
   } else {
-    out.count = reduce(c, kept, normal, p.band, p.tolerance, keep);
+    std::array<Vec, kMaxContactPoints + 1> on_b;
+    std::array<double, kMaxContactPoints + 1> separation;
+    HEDRA_ASSERT(kept <= kMaxContactPoints + 1);
+    for (int i = 0; i < kept; ++i) {
+      on_b[i] = c[i].on_b;
+      separation[i] = c[i].separation;
+    }
+    out.count = reduce(on_b.data(), separation.data(), kept, normal, p.band, p.tolerance, keep);
   }
   out.normal = normal;
   for (int k = 0; k < out.count; ++k) {
