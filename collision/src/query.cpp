@@ -9,7 +9,6 @@
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/revolution.hpp>
 #include <hedra/collision/revolution_polytope.hpp>
-#include <hedra/collision/sat.hpp>
 #include <hedra/collision/tilted_revolution.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
@@ -410,13 +409,11 @@ class PenetrationSteps {
 // pair to them (apart, a zero extent, or the certificate fell short).
 bool sat_depth_answer(const Box& a, const Pose& pose_a, const Box& b, const Pose& pose_b,
                       const PenetrationSettings& settings, PenetrationResult& out) {
-  BoxPolytopeStorage storage_a, storage_b;
-  const SatPolytope pa = sat_polytope(a, storage_a), pb = sat_polytope(b, storage_b);
   const RelativePose rel = relative_pose(pose_a, core_offset(a), pose_b, core_offset(b));
   const double radius_a = core_radius(a), radius_b = core_radius(b);
-  const double scale = std::max(pa.scale + radius_a, pb.scale + radius_b);
+  const double scale = std::max(a.half_extents.norm() + radius_a, b.half_extents.norm() + radius_b);
   detail::SatDepth d;
-  if (!detail::sat_depth(pa, pb, rel, scale, settings.epa, d)) return false;
+  if (!detail::sat_depth(a, b, rel, scale, settings.epa, d)) return false;
   HEDRA_ASSERT(is_unit(d.normal) && d.error_bound >= 0.0 && d.distance <= 0.0);
   out.status = Status::ok;
   out.error_bound = d.error_bound;

@@ -49,10 +49,16 @@ struct Tally {
   int measured = 0;
   Vec best_pa = Vec::Zero(), best_ea = Vec::Zero(), best_pb = Vec::Zero(), best_eb = Vec::Zero();
 
+  // An edge axis replaces a face axis only when it separates by more than
+  // both errors: an edge axis along a face normal (a box turned about its
+  // face normal: e_x x f_z is -e_y) ties with the face by rounding, and
+  // the face's witnesses are the ones on the surfaces.
   bool add(const SatAxis& axis, double error) {
     ++measured;
     lower = std::min(lower, -axis.separation - error);
-    if (!(axis.separation > best.separation)) return false;
+    const bool edge_over_face = axis.kind == SatAxisKind::edge && best.kind != SatAxisKind::edge;
+    const double bias = edge_over_face ? error + best_error : 0.0;
+    if (!(axis.separation > best.separation + bias)) return false;
     best = axis;
     best_error = error;
     return true;
@@ -60,13 +66,12 @@ struct Tally {
 };
 
 // Two boxes: the 15 axes, each |n.t| - h_A . |n| - h_B . |R^T n|.
-void box_axes(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, double rounding, Tally& tally) {
+void box_axes(const Vec& ha, const Vec& hb, const RelativePose& rel, double rounding, Tally& tally) {
   const Eigen::Matrix3d& r = rel.rotation;
   const Vec& t = rel.translation;
   const auto measure = [&](const Vec& n, double sine, SatAxisKind kind, int i, int j) {
     const double nt = n.dot(t);
-    const double s = (std::abs(nt) - a.half_extents.dot(n.cwiseAbs()) -
-                      b.half_extents.dot((r.transpose() * n).cwiseAbs())) / sine;
+    const double s = (std::abs(nt) - ha.dot(n.cwiseAbs()) - hb.dot((r.transpose() * n).cwiseAbs())) / sine;
     SatAxis axis;
     axis.kind = kind;
     axis.separation = s;
@@ -83,7 +88,7 @@ void box_axes(const SatPolytope& a, const SatPolytope& b, const RelativePose& re
       const Vec n = Vec::Unit(i).cross(r.col(j));
       const double sine = n.norm();
       if (!(sine > kTinySine)) {
-        tally.slack = std::max(tally.slack, 4.0 * (a.half_extents[i] + b.half_extents[j]) * sine);
+        tally.slack = std::max(tally.slack, 4.0 * (ha[i] + hb[j]) * sine);
         continue;
       }
       measure(n, sine, SatAxisKind::edge, i, j);
@@ -241,16 +246,20 @@ bool witnesses(const SatPolytope& a, const SatPolytope& b, const RelativePose& r
 
 }  // namespace
 
-bool sat_depth(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, double scale,
-               const EpaSettings& settings, SatDepth& out) {
-  HEDRA_ASSERT(a.poly == nullptr && b.poly == nullptr);  // two boxes
-  if (!(a.half_extents.minCoeff() > 0.0) || !(b.half_extents.minCoeff() > 0.0)) return false;  // flat: no solid
-  const double rounding = 16.0 * kEps * (rel.translation.norm() + a.scale + b.scale);
+bool sat_depth(const Box& box_a, const Box& box_b, const RelativePose& rel, double scale, const EpaSettings& settings,
+               SatDepth& out) {
+  const Vec& ha = box_a.half_extents;
+  const Vec& hb = box_b.half_extents;
+  if (!(ha.minCoeff() > 0.0) || !(hb.minCoeff() > 0.0)) return false;  // flat: no solid
+  const double rounding = 16.0 * kEps * (rel.translation.norm() + ha.norm() + hb.norm());
   Tally tally;
-  box_axes(a, b, rel, rounding, tally);
+  box_axes(ha, hb, rel, rounding, tally);
   if (tally.best.separation > 0.0) return false;  // apart: distance()'s answer, bit for bit (GJK)
-  box_features(a, b, rel, tally);
   if (tally.best.kind == SatAxisKind::none || !std::isfinite(tally.best.separation)) return false;
+  // The boxes' vertices and planes, for the features and the witnesses.
+  BoxPolytopeStorage storage_a, storage_b;
+  const SatPolytope a = sat_polytope(box_a, storage_a), b = sat_polytope(box_b, storage_b);
+  box_features(a, b, rel, tally);
   const double s = tally.best.separation;
   out.distance = s;
   out.normal = tally.best.normal;

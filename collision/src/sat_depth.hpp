@@ -37,10 +37,11 @@ struct SatDepth {
   int axes_tested = 0;  // face axes and edge pairs measured
 };
 
-// Two box cores (sat_polytope(Box)): true with `out` when they overlap (or
-// touch), have no zero extent, and the depth is certified within max(relative * depth, absolute * scale) of `settings`;
-// false when the bound or the witnesses fell short.
-bool sat_depth(const SatPolytope& a, const SatPolytope& b, const RelativePose& b_in_a, double scale,
-               const EpaSettings& settings, SatDepth& out);
+// Two box cores, B placed in A's core frame by b_in_a: true with `out` when
+// they overlap (or touch), have no zero extent, and the depth is certified
+// within max(relative * depth, absolute * scale) of `settings`; false when
+// the bound or the witnesses fell short.
+bool sat_depth(const Box& a, const Box& b, const RelativePose& b_in_a, double scale, const EpaSettings& settings,
+               SatDepth& out);
 
 }  // namespace hedra::collision::detail
