@@ -417,7 +417,7 @@ bool sat_depth_answer(const Box& a, const Pose& pose_a, const Box& b, const Pose
   HEDRA_ASSERT(is_unit(d.normal) && d.error_bound >= 0.0 && d.distance <= 0.0);
   out.status = Status::ok;
   out.error_bound = d.error_bound;
-  out.support_calls = d.axes_tested;
+  out.sat_axes = d.axes_tested;
   out.distance = d.distance - (radius_a + radius_b);
   out.intersecting = out.distance <= 0.0;
   place_in_world(out, core_offset(a), pose_a, radius_a, radius_b, d.point_a, d.point_b, d.distance, d.normal);

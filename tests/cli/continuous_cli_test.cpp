@@ -59,7 +59,9 @@ void expect_well_formed(const nlohmann::json& r) {
     if (!r.contains(key)) continue;
     ASSERT_TRUE(r[key].is_array() && r[key].size() == 3) << key << " in " << r.dump();
     for (const auto& x : r[key]) ASSERT_TRUE(x.is_number()) << key << " in " << r.dump();
-    if (!r["hit"].get<bool>()) EXPECT_EQ(vec(r[key]), Eigen::Vector3d::Zero()) << key << ": zero on a miss";
+    if (!r["hit"].get<bool>()) {
+      EXPECT_EQ(vec(r[key]), Eigen::Vector3d::Zero()) << key << ": zero on a miss";
+    }
   }
   if (!ray) {
     ASSERT_TRUE(r["distance"].is_number()) << r.dump();

@@ -419,7 +419,7 @@ TEST_F(SceneCli, QueryJsonMatchesClosedForms) {
   EXPECT_EQ(boxes["intersecting"], true);
   EXPECT_NEAR(boxes["distance"].get<double>(), -0.1, 1e-14);
   EXPECT_LE((vec(boxes["normal"]) - Eigen::Vector3d(1, 0, 0)).norm(), 1e-14);
-  EXPECT_GT(boxes["iterations"]["epa"].get<int>(), 0);
+  EXPECT_EQ(boxes["iterations"]["epa"].get<int>(), 0) << "two overlapping boxes: the depth from SAT's 15 axes";
 
   // Values a query type does not define are null, never a made-up number.
   const nlohmann::json& intersect = document["results"][2];
@@ -466,27 +466,35 @@ TEST_F(SceneCli, StatsShowWhatRan) {
                 "rock": {"type": "hull", "points": [[0,0,0],[1,0,0],[0,1,0],[0,0,1]]},
                 "unused": {"type": "hull", "points": [[0,0,0],[2,0,0],[0,2,0],[0,0,2]]}})",
                                 R"({"c": {"shape": "cube"}, "d": {"shape": "cube", "position": [0.5, 0.5, 0.5]},
-                "r": {"shape": "rock", "position": [0, 0, 3]}, "s": {"shape": "rock", "position": [0, 0, -3]}})",
+                "r": {"shape": "rock", "position": [0, 0, 3]}, "s": {"shape": "rock", "position": [0, 0, -3]},
+                "t": {"shape": "rock", "position": [0.2, 0.2, 0.2]}})",
                                 R"([{"a": "c", "b": "d", "type": "intersect"}, {"a": "c", "b": "d", "type": "distance"},
                 {"a": "c", "b": "d", "type": "penetration"}, {"a": "r", "b": "s", "type": "distance"},
-                {"a": "c", "b": "r", "type": "penetration"}])"));
+                {"a": "c", "b": "r", "type": "penetration"}, {"a": "c", "b": "t", "type": "penetration"}])"));
   const nlohmann::json document = run_json({"query", file, "--json", "--stats"});
   const nlohmann::json& results = document["results"];
-  ASSERT_EQ(results.size(), 5u);
+  ASSERT_EQ(results.size(), 6u);
   for (const nlohmann::json& r : results) {
     ASSERT_TRUE(r.contains("stats")) << r.dump();
     EXPECT_EQ(r["stats"]["manifold_ran"], false);
-    EXPECT_GT(r["stats"]["gjk_iterations"].get<int>(), 0);
+    // Two overlapping boxes take SAT's depth instead of GJK and EPA.
+    const bool sat = r["stats"]["sat_axes"].get<int>() > 0;
+    EXPECT_EQ(r["stats"]["gjk_ran"], !sat) << r.dump();
+    EXPECT_EQ(r["stats"]["gjk_iterations"].get<int>() > 0, !sat) << r.dump();
     // GJK evaluates the pair's support once per iteration and once to start;
     // EPA at least once per iteration on top.
-    EXPECT_GE(r["stats"]["support_calls"].get<int>(),
-              r["stats"]["gjk_iterations"].get<int>() + 1 + r["stats"]["epa_iterations"].get<int>())
-        << r.dump();
+    if (!sat)
+      EXPECT_GE(r["stats"]["support_calls"].get<int>(),
+                r["stats"]["gjk_iterations"].get<int>() + 1 + r["stats"]["epa_iterations"].get<int>())
+          << r.dump();
   }
   EXPECT_EQ(results[0]["stats"]["epa_ran"], false) << "intersect runs no EPA";
   EXPECT_EQ(results[1]["stats"]["epa_ran"], false) << "distance runs no EPA";
-  EXPECT_EQ(results[2]["stats"]["epa_ran"], true) << "overlapping penetration runs EPA";
-  EXPECT_GT(results[2]["stats"]["epa_iterations"].get<int>(), 0);
+  EXPECT_EQ(results[2]["stats"]["epa_ran"], false) << "two overlapping boxes: SAT's depth, no EPA";
+  EXPECT_GE(results[2]["stats"]["sat_axes"].get<int>(), 6);
+  EXPECT_EQ(results[5]["stats"]["epa_ran"], true) << "an overlapping box and hull run EPA";
+  EXPECT_GT(results[5]["stats"]["epa_iterations"].get<int>(), 0);
+  EXPECT_EQ(results[5]["stats"]["sat_axes"], 0);
   EXPECT_EQ(results[4]["stats"]["epa_ran"], false) << "separated penetration needs no EPA";
   EXPECT_EQ(results[4]["intersecting"], false);
   // Two shapes used; the rock hull shared by r and s is built once, the

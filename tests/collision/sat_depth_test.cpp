@@ -124,7 +124,8 @@ TEST(SatDepth, AgreesWithEpaAndTheExactReference) {
     const Vec far = (i % 5 == 0 ? 1e5 : 0.0) * Vec(1.0, 1.0, -1.0);
     const double spread = kind == 3 ? 0.1 : 1.0;
     Vec offset(spread * u(rng), spread * u(rng), spread * u(rng));
-    if (kind == 1 || kind == 2) offset = ra * Vec(0.3 * u(rng), 0.3 * u(rng), (ha.z() + hb.z()) * (1.0 - 0.1 * size(rng)));
+    if (kind == 1 || kind == 2)
+      offset = ra * Vec(0.3 * u(rng), 0.3 * u(rng), (ha.z() + hb.z()) * (1.0 - 0.1 * size(rng)));
     const Pose pa{ra, far}, pb{rb, far + offset};
     const PenetrationResult r = penetration(a, pa, b, pb);
     if (r.distance > 0.0) continue;
@@ -140,7 +141,9 @@ TEST(SatDepth, AgreesWithEpaAndTheExactReference) {
     const reference::ExactResult x = reference::exact_signed_distance(a, pa, b, pb);
     ASSERT_TRUE(x.ok) << x.reason;
     EXPECT_NEAR(r.distance, x.distance, r.error_bound + x.error_bound + rounding) << i << " kind " << kind;
-    if (x.normal_unique && x.normal_spread == 0.0) EXPECT_LT((r.normal - x.normal).norm(), 1e-6) << i;
+    if (x.normal_unique && x.normal_spread == 0.0) {
+      EXPECT_LT((r.normal - x.normal).norm(), 1e-6) << i;
+    }
     expect_witnesses(a, pa, b, pb, r, 1e-9 * scale + rounding);
   }
   EXPECT_GT(checked, 300);

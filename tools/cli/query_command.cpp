@@ -132,13 +132,10 @@ std::string format_json(const LoadedScene& loaded, const std::vector<Record>& re
     r["status"] = o.status;
     r["time_ns"] = static_cast<long long>(std::llround(o.time_ns));
     if (stats) {
-      r["stats"] = {{"gjk_ran", true},
-                    {"gjk_iterations", o.gjk_iterations},
-                    {"epa_ran", o.epa_ran},
-                    {"epa_iterations", o.epa_iterations},
-                    {"support_calls", o.support_calls},
-                    {"manifold_ran", o.manifold_ran},
-                    {"error_bound", o.error_bound}};
+      r["stats"] = {
+          {"gjk_ran", o.sat_axes == 0},         {"gjk_iterations", o.gjk_iterations}, {"epa_ran", o.epa_ran},
+          {"epa_iterations", o.epa_iterations}, {"support_calls", o.support_calls},   {"sat_axes", o.sat_axes},
+          {"manifold_ran", o.manifold_ran},     {"error_bound", o.error_bound}};
     }
     results.push_back(std::move(r));
   }
@@ -231,6 +228,12 @@ std::string format_text(const LoadedScene& loaded, const std::vector<Record>& re
         std::snprintf(line, sizeof line, "  #%zu %s: %d iteration%s, %d support call%s, error bound %.3g\n", i,
                       to_string(o.type), o.cast_iterations, o.cast_iterations == 1 ? "" : "s", o.support_calls,
                       o.support_calls == 1 ? "" : "s", o.error_bound);
+        text += line;
+        continue;
+      }
+      if (o.sat_axes > 0) {  // two overlapping boxes: SAT's depth, no GJK or EPA
+        std::snprintf(line, sizeof line, "  #%zu %s: sat %d axes, no gjk, no epa, error bound %.3g\n", i,
+                      to_string(o.type), o.sat_axes, o.error_bound);
         text += line;
         continue;
       }

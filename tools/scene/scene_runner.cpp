@@ -90,6 +90,7 @@ void set_penetration(QueryOutcome& out, const collision::PenetrationResult& r) {
   out.gjk_iterations = r.gjk_iterations;
   out.epa_iterations = r.epa_iterations;
   out.support_calls = r.support_calls;
+  out.sat_axes = r.sat_axes;
   // PenetrationResult reports EPA only through its iteration count, so this
   // reads "EPA expanded": an EPA entered on touching cores that answers from
   // a flat GJK simplex without one expansion shows as not run.

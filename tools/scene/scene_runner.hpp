@@ -67,6 +67,9 @@ struct QueryOutcome {
   // Support evaluations of the pair in GJK and EPA (A's and B's count one;
   // a contact query's SAT lookups on polytopes are not counted).
   int support_calls = 0;
+  // Axes the separating-axis test measured when it gave a penetration
+  // query's depth (two overlapping boxes: no GJK, no EPA); 0 otherwise.
+  int sat_axes = 0;
   bool epa_ran = false;
   bool manifold_ran = false;
   double time_ns = 0.0;  // median over the repetitions, excluding parsing and building

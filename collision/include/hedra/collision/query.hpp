@@ -53,9 +53,9 @@ enum class Status {
   max_iterations,  // GJK or EPA hit its cap: outputs are the best so far, no verdict
   degenerate,      // a non-finite support point appeared
   invalid_input,   // a shape failed validate(), a pose is not Pose::valid() (not a rotation within rotation_tolerance,
-                  // non-finite, beyond max_coordinate) or the pair is out of range (pair_in_range())
-  polytope_full,  // EPA's fixed-capacity polytope ran out: best so far, see error_bound
-  stalled,        // GJK or EPA stopped progressing (rounding) above the tolerance: best so far, see error_bound
+                   // non-finite, beyond max_coordinate) or the pair is out of range (pair_in_range())
+  polytope_full,   // EPA's fixed-capacity polytope ran out: best so far, see error_bound
+  stalled,         // GJK or EPA stopped progressing (rounding) above the tolerance: best so far, see error_bound
 };
 
 const char* to_string(Status status);
@@ -147,6 +147,9 @@ struct PenetrationResult {
   int gjk_iterations = 0;
   int epa_iterations = 0;  // 0 when EPA did not run
   int support_calls = 0;   // support evaluations of the pair, GJK's and EPA's
+  // Axes the separating-axis test measured when it gave the depth (two
+  // overlapping boxes: then GJK and EPA did not run); 0 otherwise.
+  int sat_axes = 0;
 };
 
 PenetrationResult penetration(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
