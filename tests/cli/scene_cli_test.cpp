@@ -483,10 +483,11 @@ TEST_F(SceneCli, StatsShowWhatRan) {
     EXPECT_EQ(r["stats"]["gjk_iterations"].get<int>() > 0, !sat) << r.dump();
     // GJK evaluates the pair's support once per iteration and once to start;
     // EPA at least once per iteration on top.
-    if (!sat)
+    if (!sat) {
       EXPECT_GE(r["stats"]["support_calls"].get<int>(),
                 r["stats"]["gjk_iterations"].get<int>() + 1 + r["stats"]["epa_iterations"].get<int>())
           << r.dump();
+    }
   }
   EXPECT_EQ(results[0]["stats"]["epa_ran"], false) << "intersect runs no EPA";
   EXPECT_EQ(results[1]["stats"]["epa_ran"], false) << "distance runs no EPA";

@@ -72,7 +72,7 @@ std::vector<Shape> projectiles(std::mt19937_64& rng, double size) {
 }
 
 SweepCase sweep(const Shape& a, const Motion& ma, const Shape& b, const Motion& mb) {
-  SweepCase c{a, b, ma, mb};
+  SweepCase c{a, b, ma, mb, 0.0, 0.0, {}};
   c.size = std::max(reference::reach(a), reference::reach(b));
   c.far = std::max({ma.p0.cwiseAbs().maxCoeff(), mb.p0.cwiseAbs().maxCoeff(), ma.p1.cwiseAbs().maxCoeff(),
                     mb.p1.cwiseAbs().maxCoeff()});
