@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <hedra/collision/manifold.hpp>
-#include <hedra/collision/sat.hpp>
+#include <hedra/collision/detail/sat.hpp>
 
 namespace hedra::collision::detail::box_box {
 

@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/manifold.hpp>
-#include <hedra/collision/sat.hpp>
+#include <hedra/collision/detail/sat.hpp>
 #include <limits>
 
 namespace hedra::collision::detail {

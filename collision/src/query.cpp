@@ -3,13 +3,13 @@
 // Polyhedron support hints travel through the caller's GjkCache.
 #include <algorithm>
 #include <cmath>
-#include <hedra/collision/epa.hpp>
-#include <hedra/collision/gjk.hpp>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/epa.hpp>
+#include <hedra/collision/detail/gjk.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <hedra/collision/query.hpp>
-#include <hedra/collision/revolution.hpp>
-#include <hedra/collision/revolution_polytope.hpp>
-#include <hedra/collision/tilted_revolution.hpp>
+#include <hedra/collision/detail/revolution.hpp>
+#include <hedra/collision/detail/revolution_polytope.hpp>
+#include <hedra/collision/detail/tilted_revolution.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
 #include <optional>

@@ -1,6 +1,6 @@
 // SAT between convex polyhedra (see sat.hpp for the algorithm and frames).
 #include <cmath>
-#include <hedra/collision/sat.hpp>
+#include <hedra/collision/detail/sat.hpp>
 #include <vector>
 
 namespace hedra::collision {

@@ -133,7 +133,7 @@
 #include <array>
 #include <cstdint>
 #include <hedra/collision/query.hpp>
-#include <hedra/collision/sat.hpp>
+#include <hedra/hull/half_edge_mesh.hpp>
 
 namespace hedra::collision {
 
@@ -185,6 +185,10 @@ struct ContactPoint {
 };
 
 inline constexpr int kMaxContactPoints = 4;
+
+// The kind of a polytope pair's contact axis (ContactCache::axis): a face of
+// A, a face of B, or an edge of each.
+enum class SatAxisKind { none, face_a, face_b, edge };
 
 // How a polytope pair's contact axis is found (see the top of the file).
 enum class PolytopeAxisSearch {
