@@ -34,6 +34,7 @@
 
 #include "box_box_detail.hpp"
 #include "contact_choice.hpp"
+#include "query_detail.hpp"
 
 namespace hedra::collision::detail {
 namespace box_box {
@@ -257,7 +258,7 @@ Built build(const Pair& p, const SatAxis& best, double exact_limit, const Contac
 Built exact_normal(const Pair& p, const Box& a, const Pose& pose_a, const Box& b, const Pose& pose_b,
                    ContactCache* cache, const ContactSettings& settings, Local& out, int& clipped, SatAxis& used) {
   const PenetrationResult pen =
-      penetration(Shape{a}, pose_a, Shape{b}, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
+      penetration_unchecked(a, pose_a, b, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
   if (pen.status != Status::ok) return Built::general;
   const double shape_scale = std::max(bounding_radius(a), bounding_radius(b));
   const auto single = [&] {  // penetration_point()

@@ -13,6 +13,7 @@
 #include "box_box.hpp"
 #include "contact_choice.hpp"
 #include "face_certificate.hpp"
+#include "query_detail.hpp"
 #include "segment_box.hpp"
 
 namespace hedra::collision {
@@ -591,7 +592,8 @@ void flip(ContactResult& r) {
   for (int k = 0; k < r.count; ++k) r.points[k].id.reference_on_b = !r.points[k].id.reference_on_b;
 }
 
-ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
+template <class SA, class SB>
+ContactResult single_point(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, ContactCache* cache,
                            const ContactSettings& settings);
 ContactResult penetration_point(const PenetrationResult& p, double scale, const ContactSettings& settings);
 
@@ -609,9 +611,21 @@ struct PolytopePair {
   double hold = 0.0;                   // how far they may be shallower (ContactSettings::hold)
   double core_contact = 0.0;           // the same between the cores
   double shape_scale = 0.0;            // max bounding radius, as single_point measures it
+  // penetration() on the pair's typed shapes, inputs checked by contact()
+  // (set by polytope_contact, which knows the types).
+  const void* shape_a = nullptr;
+  const void* shape_b = nullptr;
+  const Pose* pose_a = nullptr;
+  const Pose* pose_b = nullptr;
+  PenetrationResult (*penetrate)(const PolytopePair&, ContactCache*, const ContactSettings&) = nullptr;
+  PenetrationResult penetration(ContactCache* cache, const ContactSettings& settings) const {
+    return penetrate(*this, cache, settings);
+  }
   Placement identity{Eigen::Matrix3d::Identity(), Vec::Zero()};
   Placement placed_b;
 };
+
+ContactResult single_point(const PolytopePair& pp, ContactCache* cache, const ContactSettings& settings);
 
 // The endpoints of edge ea of A and edge eb of B in A's core frame.
 struct EdgePairEnds {
@@ -810,12 +824,11 @@ ContactResult separated_along(const PolytopePair& pp, const WorldFrame& world, c
 // The face or edge contact along the chosen axis (see manifold.hpp);
 // `exact` is penetration()'s answer when the axis came from it (else null:
 // computed here when a fallback needs it).
-ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
-                             const PolytopePair& pp, const WorldFrame& world, const SatAxis& best,
+ContactResult build_manifold(const PolytopePair& pp, const WorldFrame& world, const SatAxis& best,
                              const ContactResult* exact, ContactCache* cache, const ContactSettings& settings,
                              const ContactStats& stats, double exact_limit) {
   const auto fallback = [&] {
-    ContactResult single = exact ? *exact : single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+    ContactResult single = exact ? *exact : single_point(pp, cache, settings);
     single.stats = stats;
     return single;
   };
@@ -880,7 +893,7 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
   // rounded cores.
   if (apart && built && candidates.size > 0 && deepest > axis_separation + band) {
     SatAxis used;
-    const ContactResult r = rounded_cores_apart(pp, pose_a, world, fallback(), stats, settings, used);
+    const ContactResult r = rounded_cores_apart(pp, *pp.pose_a, world, fallback(), stats, settings, used);
     remember(cache, used);
     return r;
   }
@@ -1079,23 +1092,21 @@ SatAxis cached_edge_axis(const PolytopePair& pp, const ContactCache& cache, cons
 // When the cache's kept face of B builds no manifold of its own (its kept
 // points too shallow: penetration()'s single point would follow), the
 // choice without the cache is built instead, as a cold query builds it.
-ContactResult build_chosen(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
-                           const PolytopePair& pp, const WorldFrame& world, const AxisCandidates& c,
+ContactResult build_chosen(const PolytopePair& pp, const WorldFrame& world, const AxisCandidates& c,
                            const ContactResult* exact, ContactCache* cache, const ContactSettings& settings,
                            const ContactStats& stats, double exact_limit) {
   const SatAxis best = choose_axis(c, cache, settings, pp.scale);
   remember(cache, best);
   ContactResult r =
-      build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, best, exact, cache, settings, stats, exact_limit);
+      build_manifold(pp, world, best, exact, cache, settings, stats, exact_limit);
   const SatAxis cold = choose_axis(c, nullptr, settings, pp.scale);
   if (r.path != ContactPath::single_point || cold.kind == best.kind) return r;
   remember(cache, cold);
-  return build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, cold, exact, cache, settings, stats, exact_limit);
+  return build_manifold(pp, world, cold, exact, cache, settings, stats, exact_limit);
 }
 
 // SAT's axes: the full separating-axis test (sat.hpp).
-ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
-                             const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
+ContactResult contact_by_sat(const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
                              const ContactSettings& settings) {
   SatSettings sat;
   sat.parallel_tolerance = settings.parallel_tolerance;
@@ -1114,9 +1125,9 @@ ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Sha
   const AxisCandidates c{s.face_a, s.face_b, s.edge};
   const SatAxis best = choose_axis(c, cache, settings, pp.scale);
   if (pp.ra + pp.rb > 0.0 && best.separation > settings.penetration.touching_band * pp.scale) {
-    const ContactResult single = single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+    const ContactResult single = single_point(pp, cache, settings);
     SatAxis used;
-    const ContactResult r = rounded_cores_apart(pp, pose_a, world, single, stats, settings, used);
+    const ContactResult r = rounded_cores_apart(pp, *pp.pose_a, world, single, stats, settings, used);
     remember(cache, used);
     return r;
   }
@@ -1124,7 +1135,7 @@ ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Sha
   const double largest = std::max({s.face_a.separation, s.face_b.separation, s.edge.separation});
   const double band = settings.penetration.touching_band * pp.scale;
   const double limit = largest <= band ? largest + band : std::numeric_limits<double>::infinity();
-  return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, stats, limit);
+  return build_chosen(pp, world, c, nullptr, cache, settings, stats, limit);
 }
 
 // The exact normal's axes: penetration() (GJK, EPA when the cores overlap)
@@ -1136,14 +1147,12 @@ ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Sha
 // bias then chooses among them. SAT's largest separation is s*, so this is
 // SAT's answer up to which face wins within the bias, without SAT's
 // E_A x E_B edge pairs.
-ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
-                                const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
+ContactResult contact_by_normal(const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
                                 const ContactSettings& settings) {
-  const PenetrationResult p =
-      penetration(shape_a, pose_a, shape_b, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
+  const PenetrationResult p = pp.penetration(cache, settings);
   const ContactResult exact = penetration_point(p, pp.shape_scale, settings);
   if (p.status == Status::degenerate || p.status == Status::invalid_input) return exact;
-  const Vec n = pose_a.rotation.transpose() * p.normal;  // A's core frame, A -> B
+  const Vec n = pp.pose_a->rotation.transpose() * p.normal;  // A's core frame, A -> B
   if (exact.count == 0) {
     // Separated beyond the contact distance: with a cache, remember a face
     // that separates (the next frame's early out), else nothing.
@@ -1157,7 +1166,7 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   const double s_exact = p.distance + pp.ra + pp.rb;  // between the cores
   if (pp.ra + pp.rb > 0.0 && s_exact > settings.penetration.touching_band * pp.scale) {
     SatAxis used;
-    const ContactResult r = rounded_cores_apart(pp, pose_a, world, exact, ContactStats{}, settings, used);
+    const ContactResult r = rounded_cores_apart(pp, *pp.pose_a, world, exact, ContactStats{}, settings, used);
     remember(cache, used);
     return r;
   }
@@ -1170,7 +1179,7 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   c.edge.feature_a = edge_across(pp.pa, n);
   c.edge.feature_b = edge_across(pp.pb, -(pp.rel.rotation.transpose() * n));
   const double limit = s_exact + p.error_bound + settings.penetration.touching_band * pp.scale;
-  return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, &exact, cache, settings, ContactStats{}, limit);
+  return build_chosen(pp, world, c, &exact, cache, settings, ContactStats{}, limit);
 }
 
 // The cached axis certified exact within tol at the new poses: an edge pair
@@ -1204,8 +1213,7 @@ bool axis_is_exact(const PolytopePair& pp, const SatAxis& axis, std::array<Vec, 
 //     less than the certificate's tolerance are left to the cold query
 //     (which side of the touching band they fall on is not certain).
 // False when the cold query must run.
-bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& shape_b, const Pose& pose_b,
-                       const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
+bool answer_from_cache(const PolytopePair& pp, const WorldFrame& world, ContactCache* cache,
                        const ContactSettings& settings, ContactResult& out) {
   if (!cache) return false;
   const double band = settings.penetration.touching_band * pp.scale;
@@ -1246,12 +1254,12 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
     return true;
   }
   if (axis.kind != SatAxisKind::edge) {
-    out = build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, axis, nullptr, cache, settings, hit,
+    out = build_manifold(pp, world, axis, nullptr, cache, settings, hit,
                          axis.separation + tol + band);
     return true;
   }
   const AxisCandidates c{face_near(pp, axis.normal, true), face_near(pp, axis.normal, false), axis};
-  out = build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, hit,
+  out = build_chosen(pp, world, c, nullptr, cache, settings, hit,
                      axis.separation + 2.0 * band);
   return true;
 }
@@ -1271,9 +1279,22 @@ bool use_sat(const PolytopePair& pp, const ContactSettings& settings) {
   return pairs <= settings.max_sat_edge_pairs;
 }
 
+// penetration() on a polytope pair's typed shapes (PolytopePair::penetrate).
 template <class SA, class SB>
-ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
-                               const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
+PenetrationResult penetrate_typed(const PolytopePair& pp, ContactCache* cache, const ContactSettings& settings) {
+  return detail::penetration_unchecked(*static_cast<const SA*>(pp.shape_a), *pp.pose_a,
+                                       *static_cast<const SB*>(pp.shape_b), *pp.pose_b,
+                                       cache ? &cache->gjk : nullptr, settings.penetration);
+}
+
+// penetration()'s answer as the pair's one point.
+ContactResult single_point(const PolytopePair& pp, ContactCache* cache, const ContactSettings& settings) {
+  return penetration_point(pp.penetration(cache, settings), pp.shape_scale, settings);
+}
+
+template <class SA, class SB>
+ContactResult polytope_contact(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, ContactCache* cache,
+                               const ContactSettings& settings) {
   BoxPolytopeStorage storage_a, storage_b;
   PolytopePair pp;
   polytope_view(a, storage_a, pp.pa);
@@ -1288,7 +1309,12 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
   pp.last = cache;
   pp.hold = settings.hold * pp.scale;
   pp.core_contact = pp.keep + pp.ra + pp.rb;
-  pp.shape_scale = std::max(bounding_radius(shape_a), bounding_radius(shape_b));
+  pp.shape_scale = std::max(bounding_radius(a), bounding_radius(b));
+  pp.shape_a = &a;
+  pp.shape_b = &b;
+  pp.pose_a = &pose_a;
+  pp.pose_b = &pose_b;
+  pp.penetrate = &penetrate_typed<SA, SB>;
   const WorldFrame world{pose_a, core_offset(a)};
   if (cache && pp.pa.poly && cache->support_a < pp.pa.mesh->vertex_count()) pp.pa.hint = cache->support_a;
   if (cache && pp.pb.poly && cache->support_b < pp.pb.mesh->vertex_count()) pp.pb.hint = cache->support_b;
@@ -1302,10 +1328,10 @@ ContactResult polytope_contact(const Shape& shape_a, const SA& a, const Pose& po
     return r;
   };
   ContactResult warm;
-  if (answer_from_cache(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings, warm)) return stored(warm);
+  if (answer_from_cache(pp, world, cache, settings, warm)) return stored(warm);
   if (use_sat(pp, settings))
-    return stored(contact_by_sat(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings));
-  return stored(contact_by_normal(shape_a, pose_a, shape_b, pose_b, pp, world, cache, settings));
+    return stored(contact_by_sat(pp, world, cache, settings));
+  return stored(contact_by_normal(pp, world, cache, settings));
 }
 
 // ---- curved shapes against a polytope -------------------------------------
@@ -1438,9 +1464,11 @@ void cap_on_face(const SatPolytope& poly, Index f, const Vec& n, const Vec& c, c
 }
 
 // The world result from penetration(): one point.
-ContactResult single_point(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
+template <class SA, class SB>
+ContactResult single_point(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, ContactCache* cache,
                            const ContactSettings& settings) {
-  const PenetrationResult p = penetration(a, pose_a, b, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
+  const PenetrationResult p =
+      detail::penetration_unchecked(a, pose_a, b, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
   return penetration_point(p, std::max(bounding_radius(a), bounding_radius(b)), settings);
 }
 
@@ -1583,13 +1611,12 @@ ContactPath curved_candidates(const SatPolytope& pa, Index f, const Vec& n, cons
 // and the box, exact where GJK iterates to its tolerance), the capsule's
 // radius and the box's margin taken off along their normal.
 template <class SA, class SB>
-ContactResult curved_first_point(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b,
-                                 const SB& b, const Pose& pose_b, ContactCache* cache,
+ContactResult curved_first_point(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, ContactCache* cache,
                                  const ContactSettings& settings) {
   if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Capsule>) {
     const RelativePose rel = relative_pose(pose_a, core_offset(a), pose_b, core_offset(b));
     const Vec axis = rel.rotation.col(2);
-    const double scale = std::max(bounding_radius(shape_a), bounding_radius(shape_b));
+    const double scale = std::max(bounding_radius(a), bounding_radius(b));
     detail::SegmentBoxClosest c;
     if (detail::segment_box_closest(rel.translation - b.half_length * axis, rel.translation + b.half_length * axis,
                                     a.half_extents, settings.penetration.touching_band * scale, c)) {
@@ -1605,7 +1632,7 @@ ContactResult curved_first_point(const Shape& shape_a, const SA& a, const Pose& 
       return penetration_point(p, scale, settings);
     }
   }
-  return single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+  return single_point(a, pose_a, b, pose_b, cache, settings);
 }
 
 // A polytope A against a capsule, cylinder or cone B. The manifold is built
@@ -1618,9 +1645,9 @@ ContactResult curved_first_point(const Shape& shape_a, const SA& a, const Pose& 
 // along n and the deepest point is penetration()'s (its witnesses added
 // where n's own error still cuts them away).
 template <class SA, class SB>
-ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
-                             const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
-  ContactResult first = curved_first_point(shape_a, a, pose_a, shape_b, b, pose_b, cache, settings);
+ContactResult curved_contact(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, ContactCache* cache,
+                             const ContactSettings& settings) {
+  ContactResult first = curved_first_point(a, pose_a, b, pose_b, cache, settings);
   if (first.count == 0 || first.status != Status::ok) return first;
   BoxPolytopeStorage storage;
   SatPolytope pa;
@@ -1698,8 +1725,8 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
 }
 
 template <class SA, class SB>
-ContactResult contact_typed(const Shape& shape_a, const SA& a, const Pose& pose_a, const Shape& shape_b, const SB& b,
-                            const Pose& pose_b, ContactCache* cache, const ContactSettings& settings) {
+ContactResult contact_typed(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, ContactCache* cache,
+                            const ContactSettings& settings) {
   constexpr bool curved_a = std::is_same_v<SA, Capsule> || std::is_same_v<SA, Cylinder> || std::is_same_v<SA, Cone>;
   constexpr bool curved_b = std::is_same_v<SB, Capsule> || std::is_same_v<SB, Cylinder> || std::is_same_v<SB, Cone>;
   if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Box>) {
@@ -1709,16 +1736,16 @@ ContactResult contact_typed(const Shape& shape_a, const SA& a, const Pose& pose_
     cache->box.valid = false;  // the box memory is for box pairs only
   }
   if constexpr (is_polytope_v<SA> && is_polytope_v<SB>) {
-    if (!solid(a) || !solid(b)) return single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
-    return polytope_contact(shape_a, a, pose_a, shape_b, b, pose_b, cache, settings);
+    if (!solid(a) || !solid(b)) return single_point(a, pose_a, b, pose_b, cache, settings);
+    return polytope_contact(a, pose_a, b, pose_b, cache, settings);
   } else if constexpr (is_polytope_v<SA> && curved_b) {
-    return curved_contact(shape_a, a, pose_a, shape_b, b, pose_b, cache, settings);
+    return curved_contact(a, pose_a, b, pose_b, cache, settings);
   } else if constexpr (curved_a && is_polytope_v<SB>) {
-    ContactResult r = curved_contact(shape_b, b, pose_b, shape_a, a, pose_a, cache, settings);
+    ContactResult r = curved_contact(b, pose_b, a, pose_a, cache, settings);
     flip(r);
     return r;
   } else {
-    return single_point(shape_a, pose_a, shape_b, pose_b, cache, settings);
+    return single_point(a, pose_a, b, pose_b, cache, settings);
   }
 }
 
@@ -1736,8 +1763,7 @@ ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const 
     return out;
   }
   return std::visit(
-      [&](const auto& sa, const auto& sb) { return contact_typed(a, sa, pose_a, b, sb, pose_b, cache, settings); }, a,
-      b);
+      [&](const auto& sa, const auto& sb) { return contact_typed(sa, pose_a, sb, pose_b, cache, settings); }, a, b);
 }
 
 }  // namespace hedra::collision
