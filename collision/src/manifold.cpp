@@ -13,6 +13,7 @@
 #include "box_box.hpp"
 #include "contact_choice.hpp"
 #include "face_certificate.hpp"
+#include "pair_table.hpp"
 #include "query_detail.hpp"
 #include "segment_box.hpp"
 
@@ -548,9 +549,6 @@ void round_along(CandidateList& c, const Vec& along, bool ref_is_a, const SatPol
 }
 
 using detail::closest_segment_points;
-
-template <class T>
-constexpr bool is_polytope_v = std::is_same_v<T, Box> || std::is_same_v<T, Polyhedron>;
 
 // A polytope's SAT view, or false when it has no solid (3D) hull.
 bool polytope_view(const Box& box, BoxPolytopeStorage& storage, SatPolytope& out) {
@@ -1724,28 +1722,32 @@ ContactResult curved_contact(const SA& a, const Pose& pose_a, const SB& b, const
   return out;
 }
 
+// The pair's route (pair_table.hpp); a pair given in the other order than
+// its route is written for runs swapped, its answer flipped here.
 template <class SA, class SB>
 ContactResult contact_typed(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, ContactCache* cache,
                             const ContactSettings& settings) {
-  constexpr bool curved_a = std::is_same_v<SA, Capsule> || std::is_same_v<SA, Cylinder> || std::is_same_v<SA, Cone>;
-  constexpr bool curved_b = std::is_same_v<SB, Capsule> || std::is_same_v<SB, Cylinder> || std::is_same_v<SB, Cone>;
-  if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Box>) {
-    ContactResult r;  // box_box.cpp; what it hands back, the general path answers
-    if (detail::box_box_contact(a, pose_a, b, pose_b, cache, settings, r)) return r;
-  } else if (cache) {
-    cache->box.valid = false;  // the box memory is for box pairs only
-  }
-  if constexpr (is_polytope_v<SA> && is_polytope_v<SB>) {
-    if (!solid(a) || !solid(b)) return single_point(a, pose_a, b, pose_b, cache, settings);
-    return polytope_contact(a, pose_a, b, pose_b, cache, settings);
-  } else if constexpr (is_polytope_v<SA> && curved_b) {
-    return curved_contact(a, pose_a, b, pose_b, cache, settings);
-  } else if constexpr (curved_a && is_polytope_v<SB>) {
-    ContactResult r = curved_contact(b, pose_b, a, pose_a, cache, settings);
+  if constexpr (detail::contact_flipped<SA, SB>) {
+    ContactResult r = contact_typed(b, pose_b, a, pose_a, cache, settings);
     flip(r);
     return r;
   } else {
-    return single_point(a, pose_a, b, pose_b, cache, settings);
+    constexpr detail::ContactRoute route = detail::pair_line<SA, SB>().contact;
+    if constexpr (route == detail::ContactRoute::box_box) {
+      ContactResult r;  // box_box.cpp; what it hands back, the polytope path answers
+      if (detail::box_box_contact(a, pose_a, b, pose_b, cache, settings, r)) return r;
+    } else if (cache) {
+      cache->box.valid = false;  // the box memory is for box pairs only
+    }
+    if constexpr (route == detail::ContactRoute::box_box || route == detail::ContactRoute::polytopes) {
+      if (!solid(a) || !solid(b)) return single_point(a, pose_a, b, pose_b, cache, settings);
+      return polytope_contact(a, pose_a, b, pose_b, cache, settings);
+    } else if constexpr (route == detail::ContactRoute::polytope_curved) {
+      return curved_contact(a, pose_a, b, pose_b, cache, settings);
+    } else {
+      static_assert(route == detail::ContactRoute::single_point);
+      return single_point(a, pose_a, b, pose_b, cache, settings);
+    }
   }
 }
 

@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "closed_form.hpp"
+#include "pair_table.hpp"
 #include "query_detail.hpp"
 
 namespace hedra::collision {
@@ -406,15 +407,15 @@ class PenetrationSteps {
 template <class SA, class SB>
 PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, GjkCache* cache,
                                     const PenetrationSettings& settings) {
-  // A sphere whose centre is inside a box's core: the closed form
-  // (closed_form.hpp), without GJK and EPA.
-  if constexpr (std::is_same_v<SA, Sphere> && std::is_same_v<SB, Box>) {
+  // The pair's route (pair_table.hpp). A sphere whose centre is inside a
+  // box's core: the closed form (closed_form.hpp), without GJK and EPA.
+  if constexpr (detail::pair_line<SA, SB>().penetration == detail::PenetrationRoute::sphere_box) {
     PenetrationResult out;
-    if (closed_form::sphere_box(a, pose_a, b, pose_b, true, out)) return out;
-  }
-  if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Sphere>) {
-    PenetrationResult out;
-    if (closed_form::sphere_box(b, pose_b, a, pose_a, false, out)) return out;
+    if constexpr (!detail::penetration_flipped<SA, SB>) {
+      if (closed_form::sphere_box(a, pose_a, b, pose_b, true, out)) return out;
+    } else {
+      if (closed_form::sphere_box(b, pose_b, a, pose_a, false, out)) return out;
+    }
   }
   PairSetup<SA, SB> p(a, pose_a, b, pose_b, cache);
   const Transformed<decltype(p.core_b)> placed_b{p.core_b, p.relative.rotation, p.relative.translation};
