@@ -1,6 +1,11 @@
-// Contact manifolds (see manifold.hpp for the paths, the point convention and
-// the feature ids). Everything below runs in A's core frame: B's geometry is
-// placed there by the relative pose, and only the final points go to world.
+// Contact manifolds: contact()'s checks, its route per pair of shape types
+// (pair_table.hpp), the polytope path (SAT or the exact normal, the cached
+// axis and its certificate, the face and edge contacts), the curved shapes
+// against a polytope, and the clipping and reduction they share. What the
+// answers promise is described in docs/contacts.md, "How the points are
+// chosen", and asserted here (emit(), assert_contract()). Everything below
+// runs in A's core frame: B's geometry is placed there by the relative pose,
+// and only the final points go to world.
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/manifold.hpp>
@@ -190,6 +195,13 @@ void emit(CandidateList& c, const Vec& normal, double radius_a, double radius_b,
   out.normal = world.direction(normal);
   for (int k = 0; k < out.count; ++k) {
     const Candidate& x = c[keep[k]];
+    // Each depth is the gap along the normal: the witnesses differ by the
+    // separation along it. Exact by construction (on_ref = p - s n, both
+    // moved along n by the rounding) but for an edge pair apart, whose
+    // closest points may lie off the axis by up to sqrt(2 s band) (the
+    // check in build_manifold: their distance is within the band of s),
+    // 1e-5 of the size at a contact distance of 2 % of it.
+    HEDRA_ASSERT((x.on_b - x.on_a - x.separation * normal).norm() <= 10.0 * ties.length);
     out.points[k].point = world.point(0.5 * (x.on_a + x.on_b));
     out.points[k].depth = -x.separation;
     out.points[k].id = x.id;
@@ -1095,8 +1107,7 @@ ContactResult build_chosen(const PolytopePair& pp, const WorldFrame& world, cons
                            const ContactStats& stats, double exact_limit) {
   const SatAxis best = choose_axis(c, cache, settings, pp.scale);
   remember(cache, best);
-  ContactResult r =
-      build_manifold(pp, world, best, exact, cache, settings, stats, exact_limit);
+  ContactResult r = build_manifold(pp, world, best, exact, cache, settings, stats, exact_limit);
   const SatAxis cold = choose_axis(c, nullptr, settings, pp.scale);
   if (r.path != ContactPath::single_point || cold.kind == best.kind) return r;
   remember(cache, cold);
@@ -1252,13 +1263,11 @@ bool answer_from_cache(const PolytopePair& pp, const WorldFrame& world, ContactC
     return true;
   }
   if (axis.kind != SatAxisKind::edge) {
-    out = build_manifold(pp, world, axis, nullptr, cache, settings, hit,
-                         axis.separation + tol + band);
+    out = build_manifold(pp, world, axis, nullptr, cache, settings, hit, axis.separation + tol + band);
     return true;
   }
   const AxisCandidates c{face_near(pp, axis.normal, true), face_near(pp, axis.normal, false), axis};
-  out = build_chosen(pp, world, c, nullptr, cache, settings, hit,
-                     axis.separation + 2.0 * band);
+  out = build_chosen(pp, world, c, nullptr, cache, settings, hit, axis.separation + 2.0 * band);
   return true;
 }
 
@@ -1281,8 +1290,8 @@ bool use_sat(const PolytopePair& pp, const ContactSettings& settings) {
 template <class SA, class SB>
 PenetrationResult penetrate_typed(const PolytopePair& pp, ContactCache* cache, const ContactSettings& settings) {
   return detail::penetration_unchecked(*static_cast<const SA*>(pp.shape_a), *pp.pose_a,
-                                       *static_cast<const SB*>(pp.shape_b), *pp.pose_b,
-                                       cache ? &cache->gjk : nullptr, settings.penetration);
+                                       *static_cast<const SB*>(pp.shape_b), *pp.pose_b, cache ? &cache->gjk : nullptr,
+                                       settings.penetration);
 }
 
 // penetration()'s answer as the pair's one point.
@@ -1327,8 +1336,7 @@ ContactResult polytope_contact(const SA& a, const Pose& pose_a, const SB& b, con
   };
   ContactResult warm;
   if (answer_from_cache(pp, world, cache, settings, warm)) return stored(warm);
-  if (use_sat(pp, settings))
-    return stored(contact_by_sat(pp, world, cache, settings));
+  if (use_sat(pp, settings)) return stored(contact_by_sat(pp, world, cache, settings));
   return stored(contact_by_normal(pp, world, cache, settings));
 }
 
@@ -1751,6 +1759,26 @@ ContactResult contact_typed(const SA& a, const Pose& pose_a, const SB& b, const 
   }
 }
 
+// What manifold.hpp promises of every answer, asserted where HEDRA_ASSERT
+// is on: at most four points; with points, a unit normal (to the rotation
+// tolerance the poses are held to), the witnesses apart by the distance
+// along it (to 1e-5 of the size, emit()'s bound, plus the world
+// coordinates' rounding) and points[0] the point they belong to.
+void assert_contract([[maybe_unused]] const ContactResult& r, [[maybe_unused]] const Shape& a,
+                     [[maybe_unused]] const Shape& b) {
+#if HEDRA_ASSERTS_ENABLED
+  HEDRA_ASSERT(r.count >= 0 && r.count <= kMaxContactPoints);
+  if (r.count == 0) return;
+  const double size = std::max(bounding_radius(a), bounding_radius(b));
+  const double reach = std::max({r.point_a.cwiseAbs().maxCoeff(), r.point_b.cwiseAbs().maxCoeff(), size});
+  const double rounding = 64.0 * std::numeric_limits<double>::epsilon() * reach;
+  HEDRA_ASSERT(std::abs(r.normal.squaredNorm() - 1.0) <= 8.0 * rotation_tolerance);
+  HEDRA_ASSERT((r.point_b - r.point_a - r.distance * r.normal).norm() <= 1e-5 * size + rounding);
+  HEDRA_ASSERT(r.points[0].depth == -r.distance);
+  for (int k = 0; k < r.count; ++k) HEDRA_ASSERT(std::isfinite(r.points[k].depth) && r.points[k].point.allFinite());
+#endif
+}
+
 }  // namespace
 
 ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, ContactCache* cache,
@@ -1764,8 +1792,10 @@ ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const 
     out.status = Status::invalid_input;
     return out;
   }
-  return std::visit(
+  const ContactResult r = std::visit(
       [&](const auto& sa, const auto& sb) { return contact_typed(sa, pose_a, sb, pose_b, cache, settings); }, a, b);
+  assert_contract(r, a, b);
+  return r;
 }
 
 }  // namespace hedra::collision

@@ -100,12 +100,15 @@ constexpr PairLine pair_line() {
 constexpr bool ordered(ContactRoute r) { return r == ContactRoute::polytope_curved; }
 constexpr bool ordered(PenetrationRoute r) { return r == PenetrationRoute::sphere_box; }
 
+// The pair's line lists SA first (a pair of one type: always).
+template <class SA, class SB>
+inline constexpr bool listed_in_order = pair_line<SA, SB>().a == shape_index<SA>();
+
 // (SA, SB) runs as (SB, SA), its answer flipped.
 template <class SA, class SB>
-inline constexpr bool contact_flipped = ordered(pair_line<SA, SB>().contact) && pair_line<SA, SB>().a != shape_index<SA>();
+inline constexpr bool contact_flipped = ordered(pair_line<SA, SB>().contact) && !listed_in_order<SA, SB>;
 template <class SA, class SB>
-inline constexpr bool penetration_flipped =
-    ordered(pair_line<SA, SB>().penetration) && pair_line<SA, SB>().a != shape_index<SA>();
+inline constexpr bool penetration_flipped = ordered(pair_line<SA, SB>().penetration) && !listed_in_order<SA, SB>;
 
 // Every unordered pair of shape types has exactly one line.
 constexpr bool table_complete() {

@@ -6,10 +6,10 @@
 #include <hedra/collision/detail/epa.hpp>
 #include <hedra/collision/detail/gjk.hpp>
 #include <hedra/collision/detail/minkowski.hpp>
-#include <hedra/collision/query.hpp>
 #include <hedra/collision/detail/revolution.hpp>
 #include <hedra/collision/detail/revolution_polytope.hpp>
 #include <hedra/collision/detail/tilted_revolution.hpp>
+#include <hedra/collision/query.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
 #include <optional>
@@ -507,15 +507,15 @@ PenetrationResult detail::penetration_unchecked(const SA& a, const Pose& pose_a,
 }
 
 // Every pair of shape types (the contact code calls them typed).
-#define HEDRA_PENETRATION_UNCHECKED(SA, SB)                                                                      \
+#define HEDRA_PENETRATION_UNCHECKED(SA, SB)                                                                        \
   template PenetrationResult detail::penetration_unchecked<SA, SB>(const SA&, const Pose&, const SB&, const Pose&, \
                                                                    GjkCache*, const PenetrationSettings&);
-#define HEDRA_PENETRATION_UNCHECKED_WITH(SA)                                                        \
-  HEDRA_PENETRATION_UNCHECKED(SA, Sphere)                                                           \
-  HEDRA_PENETRATION_UNCHECKED(SA, Box)                                                              \
-  HEDRA_PENETRATION_UNCHECKED(SA, Capsule)                                                          \
-  HEDRA_PENETRATION_UNCHECKED(SA, Cylinder)                                                         \
-  HEDRA_PENETRATION_UNCHECKED(SA, Cone)                                                             \
+#define HEDRA_PENETRATION_UNCHECKED_WITH(SA) \
+  HEDRA_PENETRATION_UNCHECKED(SA, Sphere)    \
+  HEDRA_PENETRATION_UNCHECKED(SA, Box)       \
+  HEDRA_PENETRATION_UNCHECKED(SA, Capsule)   \
+  HEDRA_PENETRATION_UNCHECKED(SA, Cylinder)  \
+  HEDRA_PENETRATION_UNCHECKED(SA, Cone)      \
   HEDRA_PENETRATION_UNCHECKED(SA, Polyhedron)
 HEDRA_PENETRATION_UNCHECKED_WITH(Sphere)
 HEDRA_PENETRATION_UNCHECKED_WITH(Box)

@@ -51,9 +51,9 @@
 #include <Eigen/Core>
 #include <array>
 #include <hedra/collision/detail/minkowski.hpp>
+#include <hedra/collision/detail/support.hpp>
 #include <hedra/collision/manifold.hpp>  // SatAxisKind
 #include <hedra/collision/shapes.hpp>
-#include <hedra/collision/detail/support.hpp>
 #include <hedra/hull/half_edge_mesh.hpp>
 #include <limits>
 
