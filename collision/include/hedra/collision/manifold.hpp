@@ -8,11 +8,13 @@
 // answer may differ from a cold one) is described once, in docs/contacts.md,
 // "How the points are chosen"; the pair table is collision/src/pair_table.hpp.
 // What every answer promises (asserted in builds with HEDRA_ASSERT on):
+//   * count <= kMaxContactPoints (4); with points (count > 0):
 //   * normal: unit, world frame, from A toward B;
 //   * point_b - point_a = distance * normal (the deepest point's witnesses);
-//   * count <= kMaxContactPoints (4); each point's depth is the gap of the
-//     two surfaces along the normal at that point (> 0 overlap, < 0 a
-//     speculative gap), the deepest first;
+//   * each point's depth is the gap of the two surfaces along the normal at
+//     that point (> 0 overlap, < 0 a speculative gap);
+//   * points[0] is the point of point_a and point_b (depth = -distance), the
+//     deepest up to the reduction's ties and ContactSettings::hold;
 //   * everything in world coordinates; no allocation per query; the
 //     ContactCache is the caller's, one per pair.
 #pragma once
