@@ -1,4 +1,4 @@
-// Pieces of contact() shared by the general polytope path (manifold.cpp)
+// Pieces of contact() shared by the general polytope path (contact_polytopes.cpp)
 // and the box-box path (box_box.cpp, box_face.cpp), so that both give the
 // same answers from one definition:
 //   choose_axis   which SAT axis becomes the manifold's: faces before edges,

@@ -477,6 +477,7 @@ ContactResult penetration_point(const PenetrationResult& p, double scale, const 
   out.path = ContactPath::single_point;
   if (p.status == Status::degenerate || p.status == Status::invalid_input) return out;
   out.distance = p.distance;
+  out.error_bound = p.error_bound;
   out.normal = p.normal;
   out.point_a = p.point_a;
   out.point_b = p.point_b;

@@ -12,6 +12,7 @@
 
 #include "contact_choice.hpp"
 #include "contact_common.hpp"
+#include "contact_depth.hpp"
 #include "segment_box.hpp"
 
 namespace hedra::collision::detail::manifold {
@@ -344,6 +345,7 @@ ContactResult curved_contact(const SA& a, const Pose& pose_a, const SB& b, const
   const Ties ties{settings.penetration.touching_band * scale, tol};
   emit(candidates, n, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), ties, world, out);
   if (out.count == 0) return first;
+  out.error_bound = detail::bound_within(out.distance, out.error_bound, first.distance, first.error_bound);
   return out;
 }
 

@@ -14,6 +14,7 @@
 
 #include "box_box.hpp"
 #include "contact_common.hpp"
+#include "contact_depth.hpp"
 #include "pair_table.hpp"
 #include "query_detail.hpp"
 
@@ -145,7 +146,14 @@ ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const 
       !std::isfinite(settings.contact_distance))
     return invalid_input();
   const auto typed = [&](const auto& sa, const auto& sb) {
-    return contact_typed(sa, pose_a, sb, pose_b, cache, settings);
+    ContactResult r = contact_typed(sa, pose_a, sb, pose_b, cache, settings);
+    if (r.status == Status::invalid_input || r.status == Status::degenerate)
+      r.error_bound = std::numeric_limits<double>::infinity();
+    else if (std::isfinite(r.error_bound))
+      r.error_bound += detail::contact_rounding(detail::rough_size(sa) + detail::rough_size(sb),
+                                                pose_b.translation - pose_a.translation);
+    HEDRA_ASSERT(r.error_bound >= 0.0);  // manifold.hpp: a bound, never NaN
+    return r;
   };
 #if HEDRA_ASSERTS_ENABLED
   ContactResult r = std::visit(typed, a, b);

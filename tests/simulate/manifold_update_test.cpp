@@ -15,7 +15,10 @@
 //     keeps the anchored point, two material points that part along the
 //     normal as the edge rolls, and reads the contact shallower than it is
 //     (a 20-hull pile sank 0.1 to 0.4 % of its size that way); keep_new makes
-//     a held anchor at least as deep as hedra's point.
+//     a held anchor at least as deep as hedra's point;
+//   * a unit box 1 cm above a static one gets speculative points only when
+//     its speed can close that gap within the step (the contact distance
+//     is each body's reach in the step, at most the breaking threshold).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -215,6 +218,45 @@ TEST(ManifoldUpdate, RoundedBoxesOverlappingByTwoCentimetresKeepThatDepthAtAnyTh
       const double deepest = deepest_point(threshold, tilt);
       EXPECT_NEAR(deepest, 0.02, 1e-9) << "threshold " << threshold << ", tilt " << tilt;
     }
+}
+
+// The points in the manifold between a static unit box and a unit box 1 cm
+// above it moving down at `speed` (no gravity), after one 60 Hz step.
+int points_one_centimetre_apart(double speed) {
+  btDefaultCollisionConfiguration configuration;
+  btCollisionDispatcher dispatcher(&configuration);
+  HedraCollisionAlgorithm::CreateFunc create;
+  simulate::ShapeCache shapes;
+  simulate::register_hedra(dispatcher, create, shapes);
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
+  world.setGravity(btVector3(0, 0, 0));
+  btBoxShape shape(btVector3(0.5, 0.5, 0.5));
+  btRigidBody ground(0.0, nullptr, &shape);
+  world.addRigidBody(&ground);
+  btVector3 inertia;
+  shape.calculateLocalInertia(1.0, inertia);
+  btRigidBody box(1.0, nullptr, &shape, inertia);
+  box.setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0.1, 0, 1.01)));
+  box.setLinearVelocity(btVector3(0, 0, -speed));
+  world.addRigidBody(&box);
+  world.stepSimulation(1.0 / 60, 1, 1.0 / 60);
+  int points = 0;
+  for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+    const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
+    EXPECT_GT(manifold->getContactBreakingThreshold(), 0.01);  // the gap is within Bullet's threshold
+    points += manifold->getNumContacts();
+  }
+  world.removeRigidBody(&box);
+  world.removeRigidBody(&ground);
+  return points;
+}
+
+TEST(ManifoldUpdate, SpeculativePointsOnlyWhereTheStepCanCloseTheGap) {
+  EXPECT_EQ(points_one_centimetre_apart(0.0), 0);
+  EXPECT_EQ(points_one_centimetre_apart(0.3), 0);  // 5 mm in the step
+  EXPECT_EQ(points_one_centimetre_apart(1.0), 4);  // 16.7 mm: the face's four corners
 }
 
 }  // namespace

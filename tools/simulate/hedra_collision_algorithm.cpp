@@ -41,36 +41,52 @@ void polygon_order(const collision::ContactResult& r, int (&order)[collision::kM
   centre /= r.count;
   const Eigen::Vector3d u = r.points[0].point - centre;
   const Eigen::Vector3d v = r.normal.cross(u);
+  // A pseudo-angle in [0, 4) that grows with the angle from u around the
+  // normal (the same order as atan2's, without its cost).
   double angle[collision::kMaxContactPoints] = {};
   for (int k = 1; k < r.count; ++k) {
     const Eigen::Vector3d d = r.points[k].point - centre;
-    angle[k] = std::atan2(d.dot(v), d.dot(u));
-    if (angle[k] < 0.0) angle[k] += 2.0 * M_PI;
+    const double x = d.dot(u), y = d.dot(v);
+    const double sum = std::abs(x) + std::abs(y);
+    const double t = sum > 0.0 ? y / sum : 0.0;  // in [-1, 1]
+    angle[k] = x >= 0.0 ? (t >= 0.0 ? t : 4.0 + t) : 2.0 - t;
   }
   for (int k = 2; k < r.count; ++k)  // insertion sort of order[1, count) by angle
     for (int j = k; j > 1 && angle[order[j]] < angle[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
 }
 
+// What Bullet's points of a pair share: the combined material, as
+// btManifoldResult::addContactPoint makes it, and the friction anchor flag.
+struct PairMaterial {
+  double friction, restitution, rolling_friction, spinning_friction;
+  int flags = 0;
+  PairMaterial(const btCollisionObject* body0, const btCollisionObject* body1)
+      : friction(btManifoldResult::calculateCombinedFriction(body0, body1)),
+        restitution(btManifoldResult::calculateCombinedRestitution(body0, body1)),
+        rolling_friction(btManifoldResult::calculateCombinedRollingFriction(body0, body1)),
+        spinning_friction(btManifoldResult::calculateCombinedSpinningFriction(body0, body1)) {
+    if ((body0->getCollisionFlags() | body1->getCollisionFlags()) & btCollisionObject::CF_HAS_FRICTION_ANCHOR)
+      flags |= BT_CONTACT_FLAG_FRICTION_ANCHOR;
+  }
+};
+
 // Bullet's point for hedra's point `p` (normal `n` from A toward B), in the
-// manifold's body order (its body 0 is A unless `swapped`), with the
-// combined material of the pair, as btManifoldResult::addContactPoint makes it.
-btManifoldPoint bullet_point(const collision::ContactPoint& p, const Eigen::Vector3d& n, const btCollisionObject* a,
-                             const btCollisionObject* b, bool swapped) {
+// manifold's body order (its body 0 is A unless `swapped`), with the pair's
+// material.
+btManifoldPoint bullet_point(const collision::ContactPoint& p, const Eigen::Vector3d& n, const btTransform& body0,
+                             const btTransform& body1, bool swapped, const PairMaterial& material) {
   const btVector3 on_a = to_bullet(p.point + 0.5 * p.depth * n), on_b = to_bullet(p.point - 0.5 * p.depth * n);
-  const btCollisionObject* body0 = swapped ? b : a;
-  const btCollisionObject* body1 = swapped ? a : b;
   const btVector3 world0 = swapped ? on_b : on_a, world1 = swapped ? on_a : on_b;
   // The normal on body 1, pointing from body 1 toward body 0.
-  btManifoldPoint q(body0->getWorldTransform().invXform(world0), body1->getWorldTransform().invXform(world1),
-                    to_bullet(swapped ? n : Eigen::Vector3d(-n)), -p.depth);
+  btManifoldPoint q(body0.invXform(world0), body1.invXform(world1), to_bullet(swapped ? n : Eigen::Vector3d(-n)),
+                    -p.depth);
   q.m_positionWorldOnA = world0;
   q.m_positionWorldOnB = world1;
-  q.m_combinedFriction = btManifoldResult::calculateCombinedFriction(body0, body1);
-  q.m_combinedRestitution = btManifoldResult::calculateCombinedRestitution(body0, body1);
-  q.m_combinedRollingFriction = btManifoldResult::calculateCombinedRollingFriction(body0, body1);
-  q.m_combinedSpinningFriction = btManifoldResult::calculateCombinedSpinningFriction(body0, body1);
-  if ((body0->getCollisionFlags() | body1->getCollisionFlags()) & btCollisionObject::CF_HAS_FRICTION_ANCHOR)
-    q.m_contactPointFlags |= BT_CONTACT_FLAG_FRICTION_ANCHOR;
+  q.m_combinedFriction = material.friction;
+  q.m_combinedRestitution = material.restitution;
+  q.m_combinedRollingFriction = material.rolling_friction;
+  q.m_combinedSpinningFriction = material.spinning_friction;
+  q.m_contactPointFlags |= material.flags;
   return q;
 }
 
@@ -166,16 +182,19 @@ int stale(const btPersistentManifold& manifold, const btManifoldPoint& q, const 
 // a new point never evicts another of the same frame (Bullet's area rule,
 // made for one new point a frame, may).
 void merge_points(const collision::ContactResult& r, const int (&order)[collision::kMaxContactPoints],
-                  const btCollisionObject* a, const btCollisionObject* b, btPersistentManifold& manifold) {
-  manifold.refreshContactPoints(manifold.getBody0()->getWorldTransform(), manifold.getBody1()->getWorldTransform());
+                  const btCollisionObject* a, btPersistentManifold& manifold) {
+  const btTransform& body0 = manifold.getBody0()->getWorldTransform();
+  const btTransform& body1 = manifold.getBody1()->getWorldTransform();
+  manifold.refreshContactPoints(body0, body1);
+  if (r.count == 0) return;
   bool fresh[MANIFOLD_CACHE_SIZE] = {};
   const bool swapped = manifold.getBody0() != a;
+  const PairMaterial material(manifold.getBody0(), manifold.getBody1());
   for (int i = 0; i < r.count && i < MANIFOLD_CACHE_SIZE; ++i) {
-    const btManifoldPoint q = bullet_point(r.points[order[i]], r.normal, a, b, swapped);
+    const btManifoldPoint q = bullet_point(r.points[order[i]], r.normal, body0, body1, swapped, material);
     int slot = continued(manifold, q, fresh);
     if (slot >= 0 && anchor_holds(manifold.getContactPoint(slot), q)) {
-      deepen_held_anchor(manifold.getContactPoint(slot), q, manifold.getBody0()->getWorldTransform(),
-                         manifold.getBody1()->getWorldTransform());
+      deepen_held_anchor(manifold.getContactPoint(slot), q, body0, body1);
     } else if (slot >= 0) {
       manifold.replaceContactPoint(q, slot);
     } else if (manifold.getNumContacts() < MANIFOLD_CACHE_SIZE) {
@@ -220,6 +239,24 @@ bool primitive_shape(const btCollisionShape* shape, collision::Shape& out) {
     default:
       return false;
   }
+}
+
+// How far any point of `object` (within `radius` of its origin) can move in
+// `dt`: its speed bound |v| + |w| radius, with the velocity this step's
+// external forces (gravity) add before the solver runs; 0 for a static body.
+double reach(const btCollisionObject* object, double radius, double dt) {
+  const btRigidBody* body = btRigidBody::upcast(object);
+  if (!body) return 0.0;
+  const btVector3 v = body->getLinearVelocity() + body->getTotalForce() * (body->getInvMass() * dt);
+  return dt * (v.length() + body->getAngularVelocity().length() * radius);
+}
+
+// The radius of a ball around the body's origin that holds the shape.
+double origin_radius(const btCollisionShape* shape) {
+  btVector3 centre;
+  btScalar radius;
+  shape->getBoundingSphere(centre, radius);
+  return centre.length() + radius;
 }
 
 }  // namespace
@@ -269,7 +306,7 @@ HedraCollisionAlgorithm::~HedraCollisionAlgorithm() {
 }
 
 void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a, const btCollisionObjectWrapper* b,
-                                               const btDispatcherInfo&, btManifoldResult* result) {
+                                               const btDispatcherInfo& info, btManifoldResult* result) {
   if (!manifold_) return;
   result->setPersistentManifold(manifold_);
   // The pair's two hedra shapes, looked up (under the cache's lock) only
@@ -279,19 +316,21 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
     bullet_b_ = b->getCollisionShape();
     shape_a_ = shapes_->get(bullet_a_);
     shape_b_ = shapes_->get(bullet_b_);
+    radius_a_ = origin_radius(bullet_a_);
+    radius_b_ = origin_radius(bullet_b_);
   }
   const CachedShape* sa = shape_a_;
   const CachedShape* sb = shape_b_;
   if (!sa || !sb) return;
   collision::ContactSettings settings;
-  settings.contact_distance = manifold_->getContactBreakingThreshold();
+  settings.contact_distance = speculative_distance(a->getCollisionObject(), b->getCollisionObject(), info);
   const collision::ContactResult r = collision::contact(sa->shape, sa->pose(a->getWorldTransform()), sb->shape,
                                                         sb->pose(b->getWorldTransform()), &cache_, settings);
   ++g_queries;
   int order[collision::kMaxContactPoints];
   polygon_order(r, order);
   if (update_ == ManifoldUpdate::keep_new) {
-    merge_points(r, order, a->getCollisionObject(), b->getCollisionObject(), *manifold_);
+    merge_points(r, order, a->getCollisionObject(), *manifold_);
     g_points += r.count;
   } else {
     for (int i = 0; i < r.count; ++i) {
@@ -302,6 +341,14 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
     }
   }
   if (own_manifold_) result->refreshContactPoints();
+}
+
+double HedraCollisionAlgorithm::speculative_distance(const btCollisionObject* a, const btCollisionObject* b,
+                                                     const btDispatcherInfo& info) const {
+  const double threshold = manifold_->getContactBreakingThreshold();
+  const double dt = info.m_timeStep;
+  if (!(dt > 0.0)) return threshold;
+  return std::min(threshold, reach(a, radius_a_, dt) + reach(b, radius_b_, dt));
 }
 
 long HedraCollisionAlgorithm::queries() { return g_queries.load(); }

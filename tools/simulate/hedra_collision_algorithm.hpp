@@ -25,8 +25,17 @@
 // ShapeCache::set() gives a Bullet shape another hedra shape (a rounded Box
 // for the hull of its corners). hedra keeps a hull's vertices relative to its
 // centroid (ConvexPolyhedron::offset()), so the hull is posed at the body's
-// transform applied to that offset. The speculative contact distance is the
-// manifold's contact-breaking threshold. Each pair keeps its ContactCache.
+// transform applied to that offset. The speculative contact distance is how
+// far the two bodies can close within the step, at most the manifold's
+// contact-breaking threshold: each body's speed bound |v| + |w| r (r: the
+// radius of its shape around its origin; v with the velocity this step's
+// external forces add) times the step, summed. A point farther apart than
+// that cannot be closed at the velocities the solver starts from, so Bullet's
+// solver gives it no impulse (a speculative row acts only when the approach
+// closes its gap; should the solver speed the bodies up, the next step
+// reports the point) and would only pay for its rows: a stack of 1 cm
+// plates, 1 cm from the plate above their neighbour, had four such points a
+// pair. Each pair keeps its ContactCache.
 // Each frame hedra's points are merged into the manifold (ManifoldUpdate),
 // deepest first, then around the contact polygon (the order Bullet's solver
 // visits them; see polygon_order()). The keep_new merge writes Bullet's
@@ -132,8 +141,16 @@ class HedraCollisionAlgorithm : public btActivatingCollisionAlgorithm {
   const btCollisionShape* bullet_b_ = nullptr;
   const CachedShape* shape_a_ = nullptr;
   const CachedShape* shape_b_ = nullptr;
+  double radius_a_ = 0.0;  // of a ball around each body's origin holding its shape
+  double radius_b_ = 0.0;
   ManifoldUpdate update_;
   collision::ContactCache cache_;
+
+  // The contact distance of this frame: how far the two bodies can close
+  // within the step (see the file's note), at most the manifold's
+  // contact-breaking threshold.
+  double speculative_distance(const btCollisionObject* a, const btCollisionObject* b,
+                              const btDispatcherInfo& info) const;
 };
 
 // Registers hedra for every pair of the shapes above in `dispatcher`. `create` and `shapes` must outlive the

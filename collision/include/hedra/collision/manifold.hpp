@@ -15,6 +15,9 @@
 //     that point (> 0 overlap, < 0 a speculative gap);
 //   * points[0] is the point of point_a and point_b (depth = -distance), the
 //     deepest up to the reduction's ties and ContactSettings::hold;
+//   * error_bound: the exact signed distance lies within it of `distance`
+//     (infinite when nothing bounds it: separated beyond the contact
+//     distance, invalid input);
 //   * everything in world coordinates; no allocation per query; the
 //     ContactCache is the caller's, one per pair.
 #pragma once
@@ -24,6 +27,7 @@
 #include <cstdint>
 #include <hedra/collision/query.hpp>
 #include <hedra/hull/half_edge_mesh.hpp>
+#include <limits>
 
 namespace hedra::collision {
 
@@ -137,6 +141,7 @@ struct BoxPairMemory {
   std::array<double, 12> inputs{};  // half extents, margins and settings it was computed with
   ContactPath path = ContactPath::none;
   double distance = 0.0;
+  double error_bound = 0.0;
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // A's frame
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero(), point_b = Eigen::Vector3d::Zero();
   int count = 0;
@@ -176,6 +181,13 @@ struct ContactResult {
   // axis. For a polytope pair separated beyond the contact distance it is
   // the SAT separation, a lower bound on the distance.
   double distance = 0.0;
+  // Certified: the exact signed distance of the two shapes lies in
+  // [distance - error_bound, distance + error_bound] (rounding included).
+  // It covers the face bias (a face kept while another axis overlaps less)
+  // and penetration()'s own bound on the paths that use it. +infinity when
+  // nothing bounds it: the pair separated beyond the contact distance (path
+  // `separated`: the distance only a lower bound), or invalid input.
+  double error_bound = std::numeric_limits<double>::infinity();
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, from A toward B, world
   // The deepest point's witnesses on A and B (world).
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
