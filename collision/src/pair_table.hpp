@@ -18,6 +18,7 @@
 //   * polytope_curved: a box against a capsule whose segment misses the
 //     box's core gets its first point in closed form (segment_box.hpp);
 //   * sphere_box: only when the centre is inside the box's core, else gjk_epa;
+//   * box_sat: only overlapping boxes whose depth SAT certifies, else gjk_epa;
 //   * penetration(): a point or segment hull runs as a sphere or a capsule
 //     (query.cpp), then by this table.
 #pragma once
@@ -39,6 +40,7 @@ enum class ContactRoute {
 enum class PenetrationRoute {
   gjk_epa,     // GJK, then EPA or the exact revolution paths (query.cpp's PenetrationSteps)
   sphere_box,  // a sphere (A) whose centre is inside a box's core: closed_form.hpp
+  box_sat,     // two overlapping boxes: SAT's 15 axes, certified (sat_depth.hpp)
 };
 
 // A shape type's index in Shape.
@@ -69,7 +71,7 @@ inline constexpr PairLine kPairTable[] = {
   {kSphere,     kCylinder,    ContactRoute::single_point,     PenetrationRoute::gjk_epa},
   {kSphere,     kCone,        ContactRoute::single_point,     PenetrationRoute::gjk_epa},
   {kSphere,     kPolyhedron,  ContactRoute::single_point,     PenetrationRoute::gjk_epa},
-  {kBox,        kBox,         ContactRoute::box_box,          PenetrationRoute::gjk_epa},
+  {kBox,        kBox,         ContactRoute::box_box,          PenetrationRoute::box_sat},
   {kBox,        kCapsule,     ContactRoute::polytope_curved,  PenetrationRoute::gjk_epa},
   {kBox,        kCylinder,    ContactRoute::polytope_curved,  PenetrationRoute::gjk_epa},
   {kBox,        kCone,        ContactRoute::polytope_curved,  PenetrationRoute::gjk_epa},

@@ -438,7 +438,8 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
       if (closed_form::sphere_box(b, pose_b, a, pose_a, false, out)) return out;
     }
   }
-  if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Box>) {
+  // Two overlapping boxes: SAT's 15 axes (sat_depth.hpp), certified.
+  if constexpr (detail::pair_line<SA, SB>().penetration == detail::PenetrationRoute::box_sat) {
     PenetrationResult out;
     if (sat_depth_answer(a, pose_a, b, pose_b, settings, out)) return out;
   }
