@@ -1,4 +1,4 @@
-// Box-box contact manifolds: the general polytope path (manifold.cpp) for the
+// Box-box contact manifolds: the general polytope path (contact_polytopes.cpp) for the
 // commonest pair, written for the box so that nothing is looked up, copied
 // or searched that a box knows in closed form.
 //   * SAT: the 15 axes from the relative rotation R and translation t alone
@@ -6,13 +6,13 @@
 //     by Gottschalk's OBB formulas), the same formulas as sat.cpp's box
 //     case, so the same separations bit for bit; no support call.
 //   * The axis chosen with the face bias and the cache's kept face of B
-//     (contact_choice.hpp's choose_axis, shared with manifold.cpp).
+//     (contact_choice.hpp's choose_axis, shared with the general polytope path).
 //   * Face contact: the incident face is the other box's face most
 //     anti-parallel to the reference normal (the largest |m_j| of the normal
 //     in its frame); its 4 corners are clipped by the reference face's 4 side
 //     planes (Sutherland-Hodgman, the tolerance semantics of
 //     hull::clip_polygon), points within the contact distance kept, reduced
-//     to four and named as manifold.cpp names them (vertex, clipped edge,
+//     to four and named as contact_clip.cpp names them (vertex, clipped edge,
 //     reference corner: the unit box mesh's indices). Edge contact: the
 //     closest points of the two support edges, exact.
 //   * Cache: the last answer in A's frame with the relative pose it was
@@ -35,6 +35,7 @@
 #include "box_box_detail.hpp"
 #include "contact_choice.hpp"
 #include "contact_depth.hpp"
+#include "query_detail.hpp"
 
 namespace hedra::collision::detail {
 namespace box_box {
@@ -118,7 +119,7 @@ void edge_axes(const Pair& p, double parallel_tolerance, double floor, Axes& out
   out.edge.feature_b = topo.edge_between[8 * vb + (vb | (1u << best_j))];
 }
 
-using detail::choose_axis;  // contact_choice.hpp, shared with manifold.cpp
+using detail::choose_axis;  // contact_choice.hpp, shared with the general polytope path
 // ---- edge contact ------------------------------------------------------------
 
 // Closest points of segments p0 + s u and q0 + t v, s, t in [0, 1]
@@ -167,7 +168,7 @@ struct Local {
 // that the cores are apart and the manifold follows their exact normal.
 enum class Built { answered, general, exact_normal };
 
-// manifold.cpp's emit() for sharp cores: the candidates within the contact
+// contact_clip.cpp's emit() for sharp cores: the candidates within the contact
 // distance, reduced to four (more than four: a face's four and a witness
 // pair), the deepest first.
 void emit(Candidate* c, int count, const Vec& normal, const Pair& p, Local& out) {
@@ -210,7 +211,7 @@ void emit(Candidate* c, int count, const Vec& normal, const Pair& p, Local& out)
   out.intersecting = out.count > 0 && out.distance <= 0.0;
 }
 
-// manifold.cpp's build_manifold for a sharp pair on axis `best`.
+// contact_polytopes.cpp's build_manifold for a sharp pair on axis `best`.
 Built build(const Pair& p, const SatAxis& best, double exact_limit, Local& out,
             int& clipped) {
   std::array<Candidate, kMaxContactPoints> c;
@@ -256,7 +257,7 @@ Built build(const Pair& p, const SatAxis& best, double exact_limit, Local& out,
   }
   return Built::answered;
 }
-// Sharp or rounded cores apart (manifold.cpp's rounded_cores_apart): the
+// Sharp or rounded cores apart (contact_polytopes.cpp's rounded_cores_apart): the
 // exact normal n of penetration(); the face of A (else of B) within the face
 // angle tolerance of n is the reference, its incident face clipped by its
 // side planes swept along n, each point's depth the gap of the rounded
@@ -267,7 +268,7 @@ Built build(const Pair& p, const SatAxis& best, double exact_limit, Local& out,
 Built exact_normal(const Pair& p, const Box& a, const Pose& pose_a, const Box& b, const Pose& pose_b,
                    ContactCache* cache, const ContactSettings& settings, Local& out, int& clipped, SatAxis& used) {
   const PenetrationResult pen =
-      penetration(Shape{a}, pose_a, Shape{b}, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
+      penetration_unchecked(a, pose_a, b, pose_b, cache ? &cache->gjk : nullptr, settings.penetration);
   if (pen.status != Status::ok) return Built::general;
   const double shape_scale = std::max(bounding_radius(a), bounding_radius(b));
   const auto single = [&] {  // penetration_point()
@@ -321,7 +322,7 @@ Built exact_normal(const Pair& p, const Box& a, const Pose& pose_a, const Box& b
   std::array<Candidate, kMaxContactPoints + 1> c;
   int count = 0, face_clipped = 0;
   if (!clipper.run(p.core_contact, c.data(), count, face_clipped)) return Built::answered;  // the single point
-  if (p.ra + p.rb > 0.0) {  // manifold.cpp's round_along
+  if (p.ra + p.rb > 0.0) {  // contact_clip.cpp's round_along
     const double r_ref = of_a ? p.ra : p.rb, r_inc = of_a ? p.rb : p.ra;
     const Side& ref = of_a ? sa : sb;
     const Side& inc = of_a ? sb : sa;

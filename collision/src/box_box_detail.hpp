@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <hedra/collision/manifold.hpp>
-#include <hedra/collision/sat.hpp>
+#include <hedra/collision/detail/sat.hpp>
 
 namespace hedra::collision::detail::box_box {
 
@@ -74,7 +74,7 @@ struct Candidate {
 // each point with where it comes from: `origin` 0..3 the incident corner k
 // as is, 8 + L a crossing on the segment labelled L; `next` the label of the
 // segment leaving it (0..3 incident edge k, from corner k to k + 1; 4 + j
-// the side plane j). Labels name the clipped points as manifold.cpp's
+// the side plane j). Labels name the clipped points as contact_clip.cpp's
 // geometric tests do (a crossing on incident edge k is that edge's), without
 // the searches.
 constexpr int kMaxPolygon = 8;
@@ -84,19 +84,19 @@ struct Polygon {
   int count = 0;
 };
 
-// manifold.cpp's reduce (box_face.cpp): the deepest, the farthest from it,
+// contact_clip.cpp's reduce (box_face.cpp): the deepest, the farthest from it,
 // the largest positive and negative triangle areas about n, each the first
 // within ties, of points p (on B) with separations s; indices go to keep,
 // their number is returned.
 int reduce(const Vec* p, const double* s, int count, const Vec& n, double depth_tie, double length_tie,
            std::array<int, kMaxContactPoints>& keep);
 
-// manifold.cpp's exit_distance for a box (box_face.cpp): how far the ray
+// contact_clip.cpp's exit_distance for a box (box_face.cpp): how far the ray
 // p + t d from face f of the core runs inside the core grown by r.
 double exit_distance(const Side& box, Index f, const Vec& p, const Vec& d, double r);
 
 // The face contact on reference face `ref_face` of `ref` (A when ref_is_a)
-// with the incident face of `inc` (manifold.cpp's face_contact along the
+// with the incident face of `inc` (contact_clip.cpp's face_contact along the
 // face normal). Candidates (at most four, ids set) go to `out`.
 class FaceClipper {
  public:

@@ -3,8 +3,8 @@
 // with hull::clip_polygon's tolerance semantics, each point carrying where it
 // came from (an incident corner, or a crossing on incident edge k) so its
 // feature id needs no search; the reduction to four; the last frame's points
-// held as manifold.cpp holds them; a rounded box's exits along a normal.
-// Every step is manifold.cpp's for the general polytope, written for the box.
+// held as contact_clip.cpp holds them; a rounded box's exits along a normal.
+// Every step is contact_clip.cpp's or contact_polytopes.cpp's for the general polytope, written for the box.
 #include <algorithm>
 #include <cmath>
 #include <hedra/hull/assert.hpp>
@@ -110,7 +110,7 @@ bool clip(const Polygon& in, const double* dist, int label, double tol, Polygon&
 }
 
 // The first of `count` values within `tie` of the largest, `best`
-// (manifold.cpp's first_near_largest; the caller takes the largest as it
+// (contact_clip.cpp's first_near_largest; the caller takes the largest as it
 // fills the values, in the same order).
 int first_near_largest(const double* value, int count, double tie, double best) {
   for (int i = 0; i < count; ++i)
@@ -120,7 +120,7 @@ int first_near_largest(const double* value, int count, double tie, double best) 
 
 }  // namespace
 
-// manifold.cpp's reduce: the deepest, the farthest from it, the largest
+// contact_clip.cpp's reduce: the deepest, the farthest from it, the largest
 // positive and negative triangle areas about n, each the first within ties.
 // Points p[i] (on B) with their separations s[i].
 int reduce(const Vec* p, const double* s, int count, const Vec& n, double depth_tie, double length_tie,
@@ -301,7 +301,7 @@ const Polygon* FaceClipper::clip_by_sides(Polygon& a, Polygon& b) const {
   return src;
 }
 
-// manifold.cpp's feature ids: an incident corner kept as is, else a
+// contact_clip.cpp's feature ids: an incident corner kept as is, else a
 // crossing of an incident edge with a side plane (the nearest side plane),
 // else a reference corner. A crossing on incident edge k is named by k
 // without measuring its distance to every incident edge.
@@ -384,7 +384,7 @@ bool FaceClipper::same_as_last(const std::array<FeatureId, kMaxContactPoints>& i
   return true;
 }
 
-// manifold.cpp's hold_last: the last frame's four points while all are
+// contact_clip.cpp's hold_last: the last frame's four points while all are
 // still candidates and their deepest is within the hold of the deepest.
 int FaceClipper::hold_last(const Vec* p, const double* sep, const int* from, int count,
                            std::array<int, kMaxContactPoints>& keep, int kept) const {
@@ -409,9 +409,9 @@ int FaceClipper::hold_last(const Vec* p, const double* sep, const int* from, int
   return kept;
 }
 
-using detail::segment_exit;  // contact_choice.hpp, shared with manifold.cpp
+using detail::segment_exit;  // contact_choice.hpp, shared with the general polytope path
 
-// manifold.cpp's exit_distance for a box: how far the ray p + t d (p on face
+// contact_clip.cpp's exit_distance for a box: how far the ray p + t d (p on face
 // f of the core, A's frame) runs inside the core grown by r: the last exit of
 // the slabs of f and the four faces around it, the cylinders of f's edges
 // and the balls of its corners. Worked in the box's own frame, where a slab's

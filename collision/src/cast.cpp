@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/cast.hpp>
-#include <hedra/collision/gjk_raycast.hpp>
+#include <hedra/collision/detail/gjk_raycast.hpp>
 #include <limits>
 
 #include "cast_common.hpp"

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/cast_result.hpp>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <hedra/collision/query.hpp>
 #include <limits>
 

@@ -1,4 +1,4 @@
-// Pieces of contact() shared by the general polytope path (manifold.cpp)
+// Pieces of contact() shared by the general polytope path (contact_polytopes.cpp)
 // and the box-box path (box_box.cpp, box_face.cpp), so that both give the
 // same answers from one definition:
 //   choose_axis   which SAT axis becomes the manifold's: faces before edges,
@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <hedra/collision/manifold.hpp>
-#include <hedra/collision/sat.hpp>
+#include <hedra/collision/detail/sat.hpp>
 #include <limits>
 
 namespace hedra::collision::detail {

@@ -11,7 +11,7 @@
 // no contact point can be as deep as the axis says, and the manifold must
 // stand on another normal (the exact one, penetration()'s, whose support
 // features always overlap: its witnesses are as deep as its overlap).
-// Invariant kept by the callers (manifold.cpp, box_box.cpp): a face or edge
+// Invariant kept by the callers (contact_polytopes.cpp, box_box.cpp): a face or edge
 // manifold's deepest point is the overlap along its normal to rounding (the
 // touching band), but for warm queries holding last frame's points
 // (ContactSettings::hold, at most that much shallower).

@@ -23,7 +23,7 @@
 //     points (inside D) holds the ball of radius |s| - tol: the depth is at
 //     least that.
 // Either way no axis separates by more than s + tol, so the axis is the one
-// a cold query chooses (manifold.cpp's choose_axis: a challenger must beat
+// a cold query chooses (contact_choice.hpp's choose_axis: a challenger must beat
 // the incumbent by the bias, >= tol). Fixed buffers, no allocation.
 #pragma once
 

@@ -19,8 +19,8 @@
 #include <cmath>
 #include <cstdio>
 #include <hedra/collision/halfspace.hpp>
-#include <hedra/collision/support.hpp>
-#include <hedra/collision/vector_math.hpp>
+#include <hedra/collision/detail/support.hpp>
+#include <hedra/collision/detail/vector_math.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
 #include <variant>

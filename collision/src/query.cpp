@@ -3,13 +3,13 @@
 // Polyhedron support hints travel through the caller's GjkCache.
 #include <algorithm>
 #include <cmath>
-#include <hedra/collision/epa.hpp>
-#include <hedra/collision/gjk.hpp>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/epa.hpp>
+#include <hedra/collision/detail/gjk.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
+#include <hedra/collision/detail/revolution.hpp>
+#include <hedra/collision/detail/revolution_polytope.hpp>
+#include <hedra/collision/detail/tilted_revolution.hpp>
 #include <hedra/collision/query.hpp>
-#include <hedra/collision/revolution.hpp>
-#include <hedra/collision/revolution_polytope.hpp>
-#include <hedra/collision/tilted_revolution.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
 #include <optional>
@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "closed_form.hpp"
+#include "pair_table.hpp"
 #include "query_detail.hpp"
 #include "sat_depth.hpp"
 
@@ -427,17 +428,18 @@ bool sat_depth_answer(const Box& a, const Pose& pose_a, const Box& b, const Pose
 template <class SA, class SB>
 PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, GjkCache* cache,
                                     const PenetrationSettings& settings) {
-  // A sphere whose centre is inside a box's core: the closed form
-  // (closed_form.hpp), without GJK and EPA.
-  if constexpr (std::is_same_v<SA, Sphere> && std::is_same_v<SB, Box>) {
+  // The pair's route (pair_table.hpp). A sphere whose centre is inside a
+  // box's core: the closed form (closed_form.hpp), without GJK and EPA.
+  if constexpr (detail::pair_line<SA, SB>().penetration == detail::PenetrationRoute::sphere_box) {
     PenetrationResult out;
-    if (closed_form::sphere_box(a, pose_a, b, pose_b, true, out)) return out;
+    if constexpr (!detail::penetration_flipped<SA, SB>) {
+      if (closed_form::sphere_box(a, pose_a, b, pose_b, true, out)) return out;
+    } else {
+      if (closed_form::sphere_box(b, pose_b, a, pose_a, false, out)) return out;
+    }
   }
-  if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Sphere>) {
-    PenetrationResult out;
-    if (closed_form::sphere_box(b, pose_b, a, pose_a, false, out)) return out;
-  }
-  if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Box>) {
+  // Two overlapping boxes: SAT's 15 axes (sat_depth.hpp), certified.
+  if constexpr (detail::pair_line<SA, SB>().penetration == detail::PenetrationRoute::box_sat) {
     PenetrationResult out;
     if (sat_depth_answer(a, pose_a, b, pose_b, settings, out)) return out;
   }
@@ -472,8 +474,7 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
 // depth); a sphere there is exact. (A GjkCache shared with distance() on
 // the same segment hull then holds axes in two frames: only the warm start
 // suffers.)
-bool as_sphere_or_capsule(const Shape& shape, const Pose& pose, Shape& out, Pose& out_pose) {
-  const Polyhedron* p = std::get_if<Polyhedron>(&shape);
+bool as_sphere_or_capsule(const Polyhedron* p, const Pose& pose, Shape& out, Pose& out_pose) {
   if (p == nullptr || !p->hull) return false;
   const ConvexPolyhedron& h = *p->hull;
   if (h.dimension() == 0 && h.vertex_count() == 1) {
@@ -499,7 +500,57 @@ bool as_sphere_or_capsule(const Shape& shape, const Pose& pose, Shape& out, Pose
   return false;
 }
 
+template <class S>
+const Polyhedron* polyhedron_of(const S& shape) {
+  if constexpr (std::is_same_v<S, Polyhedron>)
+    return &shape;
+  else
+    return nullptr;
+}
+
 }  // namespace
+
+template <class SA, class SB>
+PenetrationResult detail::penetration_unchecked(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b,
+                                                GjkCache* cache, const PenetrationSettings& settings) {
+  HEDRA_ASSERT(inputs_valid(Shape(a), pose_a, Shape(b), pose_b));
+  if constexpr (std::is_same_v<SA, Polyhedron> || std::is_same_v<SB, Polyhedron>) {
+    Shape sphere_a, sphere_b;  // a Sphere each: no allocation
+    Pose at_a = pose_a, at_b = pose_b;
+    const bool converted_a = as_sphere_or_capsule(polyhedron_of(a), pose_a, sphere_a, at_a);
+    const bool converted_b = as_sphere_or_capsule(polyhedron_of(b), pose_b, sphere_b, at_b);
+    const auto typed_b = [&](const auto& sa) -> PenetrationResult {
+      if (converted_b)
+        return std::visit([&](const auto& sb) { return penetration_typed(sa, at_a, sb, at_b, cache, settings); },
+                          sphere_b);
+      return penetration_typed(sa, at_a, b, at_b, cache, settings);
+    };
+    if (converted_a) return std::visit(typed_b, sphere_a);
+    return typed_b(a);
+  } else {
+    return penetration_typed(a, pose_a, b, pose_b, cache, settings);
+  }
+}
+
+// Every pair of shape types (the contact code calls them typed).
+#define HEDRA_PENETRATION_UNCHECKED(SA, SB)                                                                        \
+  template PenetrationResult detail::penetration_unchecked<SA, SB>(const SA&, const Pose&, const SB&, const Pose&, \
+                                                                   GjkCache*, const PenetrationSettings&);
+#define HEDRA_PENETRATION_UNCHECKED_WITH(SA) \
+  HEDRA_PENETRATION_UNCHECKED(SA, Sphere)    \
+  HEDRA_PENETRATION_UNCHECKED(SA, Box)       \
+  HEDRA_PENETRATION_UNCHECKED(SA, Capsule)   \
+  HEDRA_PENETRATION_UNCHECKED(SA, Cylinder)  \
+  HEDRA_PENETRATION_UNCHECKED(SA, Cone)      \
+  HEDRA_PENETRATION_UNCHECKED(SA, Polyhedron)
+HEDRA_PENETRATION_UNCHECKED_WITH(Sphere)
+HEDRA_PENETRATION_UNCHECKED_WITH(Box)
+HEDRA_PENETRATION_UNCHECKED_WITH(Capsule)
+HEDRA_PENETRATION_UNCHECKED_WITH(Cylinder)
+HEDRA_PENETRATION_UNCHECKED_WITH(Cone)
+HEDRA_PENETRATION_UNCHECKED_WITH(Polyhedron)
+#undef HEDRA_PENETRATION_UNCHECKED_WITH
+#undef HEDRA_PENETRATION_UNCHECKED
 
 bool pair_in_range(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b) {
   const double radius = std::max(bounding_radius(a), bounding_radius(b));
@@ -558,13 +609,11 @@ PenetrationResult penetration(const Shape& a, const Pose& pose_a, const Shape& b
     out.status = Status::invalid_input;
     return out;
   }
-  Shape sphere_a, sphere_b;  // a Sphere each: no allocation
-  Pose at_a = pose_a, at_b = pose_b;
-  const bool converted_a = as_sphere_or_capsule(a, pose_a, sphere_a, at_a);
-  const bool converted_b = as_sphere_or_capsule(b, pose_b, sphere_b, at_b);
   return std::visit(
-      [&](const auto& sa, const auto& sb) { return penetration_typed(sa, at_a, sb, at_b, cache, settings); },
-      converted_a ? sphere_a : a, converted_b ? sphere_b : b);
+      [&](const auto& sa, const auto& sb) {
+        return detail::penetration_unchecked(sa, pose_a, sb, pose_b, cache, settings);
+      },
+      a, b);
 }
 
 }  // namespace hedra::collision

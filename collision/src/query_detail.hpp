@@ -14,4 +14,13 @@ namespace hedra::collision::detail {
 bool separated_beyond_unchecked(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, double gap,
                                 const GjkSettings& settings);
 
+// penetration() on shapes of known types without its input checks (the
+// contact code checks once, in contact()): the same answer, bit for bit.
+// Requires what penetration() checks (asserted in debug builds). Point and
+// segment hulls take the sphere's and the capsule's paths, as in
+// penetration(). Instantiated in query.cpp for every pair of shape types.
+template <class SA, class SB>
+PenetrationResult penetration_unchecked(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b,
+                                        GjkCache* cache, const PenetrationSettings& settings);
+
 }  // namespace hedra::collision::detail

@@ -2,8 +2,8 @@
 // form (ball, capsule, box, cylinder) or the GJK ray cast (gjk_raycast.hpp).
 #include <algorithm>
 #include <cmath>
-#include <hedra/collision/gjk_raycast.hpp>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/gjk_raycast.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <hedra/collision/raycast.hpp>
 #include <limits>
 

@@ -1,6 +1,7 @@
 // SAT between convex polyhedra (see sat.hpp for the algorithm and frames).
 #include <cmath>
-#include <hedra/collision/sat.hpp>
+#include <hedra/collision/detail/sat.hpp>
+#include <hedra/hull/assert.hpp>
 #include <vector>
 
 namespace hedra::collision {
@@ -289,9 +290,9 @@ void hull_edge_query(const SatPolytope& a, const SatPolytope& b, const RelativeP
   }
 }
 
-}  // namespace
-
-SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, const SatSettings& settings) {
+// The full test (sat.hpp's sat_query).
+SatResult sat_query_unchecked(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel,
+                              const SatSettings& settings) {
   SatResult out;
   if (!a.poly && !b.poly) {  // two boxes: closed forms
     box_face_query(a, b, rel, out);
@@ -304,6 +305,27 @@ SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePo
   }
   if (hull_face_query(a, b, rel, settings, out)) return out;
   hull_edge_query(a, b, rel, settings, out);
+  return out;
+}
+
+// What sat.hpp promises of an axis: none, or a unit normal (to the rotation
+// tolerance B's placement is held to) with a separation that is not NaN
+// and features that name it.
+[[maybe_unused]] bool well_formed(const SatAxis& axis) {
+  if (axis.kind == SatAxisKind::none) return true;
+  const bool features = (axis.kind == SatAxisKind::face_a && axis.feature_a != hull::kInvalidIndex) ||
+                        (axis.kind == SatAxisKind::face_b && axis.feature_b != hull::kInvalidIndex) ||
+                        (axis.kind == SatAxisKind::edge && axis.feature_a != hull::kInvalidIndex &&
+                         axis.feature_b != hull::kInvalidIndex);
+  return features && !std::isnan(axis.separation) &&
+         std::abs(axis.normal.squaredNorm() - 1.0) <= 8.0 * rotation_tolerance;
+}
+
+}  // namespace
+
+SatResult sat_query(const SatPolytope& a, const SatPolytope& b, const RelativePose& rel, const SatSettings& settings) {
+  SatResult out = sat_query_unchecked(a, b, rel, settings);
+  HEDRA_ASSERT(well_formed(out.face_a) && well_formed(out.face_b) && well_formed(out.edge) && out.edge_pairs >= 0);
   return out;
 }
 

@@ -21,8 +21,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <hedra/collision/minkowski.hpp>
-#include <hedra/collision/sat.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
+#include <hedra/collision/detail/sat.hpp>
 #include <hedra/collision/settings.hpp>
 
 namespace hedra::collision::detail {

@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <hedra/collision/gjk.hpp>
+#include <hedra/collision/detail/gjk.hpp>
 #include <hedra/collision/time_of_impact.hpp>
 #include <limits>
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <hedra/collision/support.hpp>
+#include <hedra/collision/detail/support.hpp>
 #include <hedra/collision/world.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>

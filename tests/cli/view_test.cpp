@@ -28,7 +28,7 @@
 #include <filesystem>
 #include <fstream>
 #include <hedra/collision/query.hpp>
-#include <hedra/collision/support.hpp>
+#include <hedra/collision/detail/support.hpp>
 #include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>

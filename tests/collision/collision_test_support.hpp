@@ -12,9 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <exact_reference.hpp>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <hedra/collision/shapes.hpp>
-#include <hedra/collision/support.hpp>
+#include <hedra/collision/detail/support.hpp>
 #include <limits>
 #include <memory>
 #include <qhull_reference.hpp>

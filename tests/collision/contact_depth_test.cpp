@@ -14,8 +14,8 @@
 #include <cmath>
 #include <cstdio>
 #include <exact_reference.hpp>
+#include <hedra/collision/detail/support.hpp>
 #include <hedra/collision/manifold.hpp>
-#include <hedra/collision/support.hpp>
 #include <map>
 #include <random>
 #include <string>

@@ -22,7 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <hedra/collision/gjk.hpp>
+#include <hedra/collision/detail/gjk.hpp>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>
 #include <limits>

@@ -16,8 +16,8 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <hedra/collision/epa.hpp>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/epa.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <limits>
 #include <random>
 #include <vector>

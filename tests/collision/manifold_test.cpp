@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <hedra/collision/detail/sat.hpp>  // unit_box_mesh
 #include <hedra/collision/manifold.hpp>
 #include <limits>
 #include <random>

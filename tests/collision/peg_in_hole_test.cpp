@@ -13,9 +13,9 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
-#include <hedra/collision/gjk.hpp>
+#include <hedra/collision/detail/gjk.hpp>
 #include <hedra/collision/query.hpp>
-#include <hedra/collision/revolution_polytope.hpp>
+#include <hedra/collision/detail/revolution_polytope.hpp>
 #include <random>
 
 #include "collision_test_support.hpp"

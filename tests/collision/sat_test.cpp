@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <hedra/collision/sat.hpp>
+#include <hedra/collision/detail/sat.hpp>
 #include <random>
 
 #include "collision_test_support.hpp"

@@ -14,8 +14,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <hedra/collision/minkowski.hpp>
-#include <hedra/collision/support.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
+#include <hedra/collision/detail/support.hpp>
 #include <limits>
 #include <random>
 #include <vector>

@@ -17,9 +17,9 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cmath>
-#include <hedra/collision/gjk.hpp>
+#include <hedra/collision/detail/gjk.hpp>
 #include <hedra/collision/query.hpp>
-#include <hedra/collision/tilted_revolution.hpp>
+#include <hedra/collision/detail/tilted_revolution.hpp>
 #include <random>
 
 #include "collision_test_support.hpp"

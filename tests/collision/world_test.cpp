@@ -11,7 +11,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstring>
-#include <hedra/collision/support.hpp>
+#include <hedra/collision/detail/support.hpp>
 #include <hedra/collision/world.hpp>
 #include <random>
 #include <thread>

@@ -53,6 +53,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <hedra/collision/cast.hpp>
+#include <hedra/collision/detail/minkowski.hpp>  // core_offset
 #include <hedra/collision/halfspace.hpp>
 #include <hedra/collision/manifold.hpp>
 #include <hedra/collision/query.hpp>

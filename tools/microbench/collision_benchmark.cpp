@@ -40,7 +40,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <hedra/collision/query.hpp>
-#include <hedra/collision/support.hpp>
+#include <hedra/collision/detail/support.hpp>
 #include <limits>
 #include <memory>
 #include <random>

@@ -12,7 +12,7 @@
 #include <ccd/ccd.h>
 
 #include <cmath>
-#include <hedra/collision/support.hpp>
+#include <hedra/collision/detail/support.hpp>
 
 #include "adapters.hpp"
 

@@ -17,7 +17,7 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <hedra/collision/shapes.hpp>
 #include <memory>
 #include <string>

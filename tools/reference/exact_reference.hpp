@@ -111,7 +111,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <hedra/collision/shapes.hpp>
 #include <string>
 #include <vector>

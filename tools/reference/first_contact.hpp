@@ -18,7 +18,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <hedra/collision/shapes.hpp>
 #include <limits>
 #include <string>

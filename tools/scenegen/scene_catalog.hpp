@@ -47,7 +47,7 @@
 
 #include <Eigen/Core>
 #include <exact_reference.hpp>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <hedra/collision/shapes.hpp>
 #include <map>
 #include <optional>

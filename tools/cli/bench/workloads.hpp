@@ -44,7 +44,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <hedra/collision/shapes.hpp>
 #include <limits>
 #include <string>

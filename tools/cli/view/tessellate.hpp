@@ -24,7 +24,7 @@
 // large) does not coarsen the tessellation; vertices are posed at the end.
 #pragma once
 
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <hedra/collision/shapes.hpp>
 #include <hedra/hull/half_edge_mesh.hpp>
 #include <string>

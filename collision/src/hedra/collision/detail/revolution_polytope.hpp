@@ -34,9 +34,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <hedra/collision/epa.hpp>
-#include <hedra/collision/minkowski.hpp>
-#include <hedra/collision/tilted_revolution.hpp>
+#include <hedra/collision/detail/epa.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
+#include <hedra/collision/detail/tilted_revolution.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
 

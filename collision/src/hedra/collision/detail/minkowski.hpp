@@ -27,7 +27,7 @@
 #include <cmath>
 #include <hedra/collision/pose.hpp>
 #include <hedra/collision/settings.hpp>
-#include <hedra/collision/support.hpp>
+#include <hedra/collision/detail/support.hpp>
 #include <limits>
 
 namespace hedra::collision {

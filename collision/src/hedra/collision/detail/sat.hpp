@@ -50,9 +50,10 @@
 
 #include <Eigen/Core>
 #include <array>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
+#include <hedra/collision/detail/support.hpp>
+#include <hedra/collision/manifold.hpp>  // SatAxisKind
 #include <hedra/collision/shapes.hpp>
-#include <hedra/collision/support.hpp>
 #include <hedra/hull/half_edge_mesh.hpp>
 #include <limits>
 
@@ -93,8 +94,6 @@ struct BoxPolytopeStorage {
 SatPolytope sat_polytope(const Box& box, BoxPolytopeStorage& storage);
 // Requires poly.dimension() == 3 for a meaningful SAT.
 SatPolytope sat_polytope(const ConvexPolyhedron& poly);
-
-enum class SatAxisKind { none, face_a, face_b, edge };
 
 struct SatAxis {
   SatAxisKind kind = SatAxisKind::none;

@@ -39,7 +39,7 @@
 #include <cmath>
 #include <cstddef>
 #include <hedra/collision/shapes.hpp>
-#include <hedra/collision/vector_math.hpp>
+#include <hedra/collision/detail/vector_math.hpp>
 #include <limits>
 
 #if defined(__SSE2__)

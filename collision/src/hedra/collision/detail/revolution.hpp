@@ -18,8 +18,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <hedra/collision/epa.hpp>
-#include <hedra/collision/minkowski.hpp>
+#include <hedra/collision/detail/epa.hpp>
+#include <hedra/collision/detail/minkowski.hpp>
 #include <limits>
 
 namespace hedra::collision {

@@ -25,7 +25,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <hedra/collision/gjk.hpp>
+#include <hedra/collision/detail/gjk.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
 

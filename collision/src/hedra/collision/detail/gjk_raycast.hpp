@@ -33,7 +33,7 @@
 #include <array>
 #include <cmath>
 #include <hedra/collision/cast_result.hpp>
-#include <hedra/collision/gjk.hpp>
+#include <hedra/collision/detail/gjk.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
 

@@ -26,7 +26,7 @@
 #include <cmath>
 #include <cstdint>
 #include <hedra/collision/settings.hpp>
-#include <hedra/collision/vector_math.hpp>
+#include <hedra/collision/detail/vector_math.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
 
