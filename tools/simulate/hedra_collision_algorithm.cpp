@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -55,19 +56,25 @@ void polygon_order(const collision::ContactResult& r, int (&order)[collision::kM
     for (int j = k; j > 1 && angle[order[j]] < angle[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
 }
 
-// What Bullet's points of a pair share: the combined material, as
+// Whether Bullet's points of the pair are friction anchors (either body
+// asks for them).
+int anchor_flag(const btCollisionObject* body0, const btCollisionObject* body1) {
+  const bool anchors =
+      (body0->getCollisionFlags() | body1->getCollisionFlags()) & btCollisionObject::CF_HAS_FRICTION_ANCHOR;
+  return anchors ? BT_CONTACT_FLAG_FRICTION_ANCHOR : 0;
+}
+
+// What the points Bullet writes for a pair share: the combined material, as
 // btManifoldResult::addContactPoint makes it, and the friction anchor flag.
 struct PairMaterial {
   double friction, restitution, rolling_friction, spinning_friction;
-  int flags = 0;
+  int flags;
   PairMaterial(const btCollisionObject* body0, const btCollisionObject* body1)
       : friction(btManifoldResult::calculateCombinedFriction(body0, body1)),
         restitution(btManifoldResult::calculateCombinedRestitution(body0, body1)),
         rolling_friction(btManifoldResult::calculateCombinedRollingFriction(body0, body1)),
-        spinning_friction(btManifoldResult::calculateCombinedSpinningFriction(body0, body1)) {
-    if ((body0->getCollisionFlags() | body1->getCollisionFlags()) & btCollisionObject::CF_HAS_FRICTION_ANCHOR)
-      flags |= BT_CONTACT_FLAG_FRICTION_ANCHOR;
-  }
+        spinning_friction(btManifoldResult::calculateCombinedSpinningFriction(body0, body1)),
+        flags(anchor_flag(body0, body1)) {}
 };
 
 // How Bullet holds a contact point: by its two material points (each in its
@@ -113,11 +120,12 @@ struct NewPoint {
 };
 
 // The manifold's point that `q` continues, as Bullet's getCacheEntry finds
-// it (the nearest within the breaking threshold in body 0's frame), among
-// the points not written this frame; -1 if none.
-int continued(const btPersistentManifold& manifold, const NewPoint& q, const bool (&fresh)[MANIFOLD_CACHE_SIZE]) {
+// it (the nearest within the breaking threshold `threshold` in body 0's
+// frame), among the points not written this frame; -1 if none.
+int continued(const btPersistentManifold& manifold, const NewPoint& q, double threshold,
+              const bool (&fresh)[MANIFOLD_CACHE_SIZE]) {
   int match = -1;
-  double nearest = manifold.getContactBreakingThreshold() * manifold.getContactBreakingThreshold();
+  double nearest = threshold * threshold;
   for (int k = 0; k < manifold.getNumContacts(); ++k) {
     const double d2 = (manifold.getContactPoint(k).m_localPointA - q.local0).length2();
     if (!fresh[k] && d2 < nearest) {
@@ -132,8 +140,8 @@ int continued(const btPersistentManifold& manifold, const NewPoint& q, const boo
 // BT_CONTACT_FLAG_FRICTION_ANCHOR): the old point `old` is kept instead of
 // the new point that continues it while its friction impulse stays inside
 // the Coulomb cone.
-bool anchor_holds(const btManifoldPoint& old, const PairMaterial& material) {
-  if (!(material.flags & BT_CONTACT_FLAG_FRICTION_ANCHOR)) return false;
+bool anchor_holds(const btManifoldPoint& old, int anchor) {
+  if (!(anchor & BT_CONTACT_FLAG_FRICTION_ANCHOR)) return false;
   const double lateral = old.m_appliedImpulseLateral1 * old.m_appliedImpulseLateral1 +
                          old.m_appliedImpulseLateral2 * old.m_appliedImpulseLateral2;
   const double cone = old.m_combinedFriction * old.m_appliedImpulse;
@@ -205,30 +213,38 @@ int stale(const btPersistentManifold& manifold, const NewPoint& q, const bool (&
 //      the old point whose replacement leaves the widest quadrilateral
 //      (stale()); it never evicts another of the same frame (Bullet's area
 //      rule, made for one new point a frame, may).
-// A held anchor needs only the new point's distance; the whole Bullet point
-// is built only where it is written.
+// A held anchor needs only the new point's distance: the whole Bullet point,
+// and the pair's combined material, are made only where a point is written
+// (a resting pair's anchors mostly hold).
 void merge_points(const collision::ContactResult& r, const int (&order)[collision::kMaxContactPoints],
                   const btCollisionObject* a, btPersistentManifold& manifold) {
-  const btTransform& body0 = manifold.getBody0()->getWorldTransform();
-  const btTransform& body1 = manifold.getBody1()->getWorldTransform();
+  const btCollisionObject* object0 = manifold.getBody0();
+  const btCollisionObject* object1 = manifold.getBody1();
+  const btTransform& body0 = object0->getWorldTransform();
+  const btTransform& body1 = object1->getWorldTransform();
   manifold.refreshContactPoints(body0, body1);
   if (r.count == 0) return;
+  const double threshold = manifold.getContactBreakingThreshold();
+  const int anchor = anchor_flag(object0, object1);
+  std::optional<PairMaterial> material;
+  const auto written = [&](const NewPoint& q) {
+    if (!material) material.emplace(object0, object1);
+    return q.written(body0, body1, *material);
+  };
   bool fresh[MANIFOLD_CACHE_SIZE] = {};
-  const bool swapped = manifold.getBody0() != a;
-  const PairMaterial material(manifold.getBody0(), manifold.getBody1());
   for (int i = 0; i < r.count && i < MANIFOLD_CACHE_SIZE; ++i) {
-    const NewPoint q(r.points[order[i]], r.normal, body0, swapped);
-    int slot = continued(manifold, q, fresh);
-    if (slot >= 0 && anchor_holds(manifold.getContactPoint(slot), material)) {
+    const NewPoint q(r.points[order[i]], r.normal, body0, object0 != a);
+    int slot = continued(manifold, q, threshold, fresh);
+    if (slot >= 0 && anchor_holds(manifold.getContactPoint(slot), anchor)) {
       deepen_held_anchor(manifold.getContactPoint(slot), q.distance, body0, body1);
     } else if (slot >= 0) {
-      manifold.replaceContactPoint(q.written(body0, body1, material), slot);
+      manifold.replaceContactPoint(written(q), slot);
     } else if (manifold.getNumContacts() < MANIFOLD_CACHE_SIZE) {
-      slot = manifold.addManifoldPoint(q.written(body0, body1, material), true);
+      slot = manifold.addManifoldPoint(written(q), true);
     } else {
       slot = stale(manifold, q, fresh);  // some point is old: at most 3 of 4 written yet
       btAssert(slot >= 0);
-      manifold.getContactPoint(slot) = q.written(body0, body1, material);
+      manifold.getContactPoint(slot) = written(q);
     }
     fresh[slot] = true;
   }
@@ -289,7 +305,7 @@ double origin_radius(const btCollisionShape* shape) {
 
 collision::Pose CachedShape::pose(const btTransform& world) const {
   collision::Pose p = to_pose(world);
-  p.translation = p.apply(offset);
+  if (offset != Eigen::Vector3d::Zero()) p.translation = p.apply(offset);  // a hull's centroid; zero for the primitives
   return p;
 }
 
