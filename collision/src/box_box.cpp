@@ -34,6 +34,7 @@
 
 #include "box_box_detail.hpp"
 #include "contact_choice.hpp"
+#include "contact_depth.hpp"
 
 namespace hedra::collision::detail {
 namespace box_box {
@@ -84,9 +85,10 @@ void edge_axes(const Pair& p, double parallel_tolerance, double floor, Axes& out
   int best_i = -1, best_j = -1;
   bool flip = false;
   for (int i = 0; i < 3; ++i) {
-    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    constexpr int kNext[3] = {1, 2, 0}, kAfter[3] = {2, 0, 1};
+    const int i1 = kNext[i], i2 = kAfter[i];
     for (int j = 0; j < 3; ++j) {
-      const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const int j1 = kNext[j], j2 = kAfter[j];
       const double len2 = 1.0 - r(i, j) * r(i, j);
       if (!(len2 > parallel_tolerance * parallel_tolerance)) continue;
       const double nt = t[i2] * r(i1, j) - t[i1] * r(i2, j);
@@ -151,6 +153,7 @@ void closest_on_segments(const Vec& p0, const Vec& u, const Vec& q0, const Vec& 
 struct Local {
   ContactPath path = ContactPath::none;
   double distance = 0.0;
+  double error_bound = std::numeric_limits<double>::infinity();  // ContactResult's (before rounding)
   Vec normal = Vec::Zero();
   Vec point_a = Vec::Zero(), point_b = Vec::Zero();
   bool witnesses = false;  // point_a, point_b set
@@ -181,7 +184,14 @@ void emit(Candidate* c, int count, const Vec& normal, const Pair& p, Local& out)
     for (int k = 1; k < kept; ++k)
       if (c[keep[k]].separation < c[keep[0]].separation) std::swap(keep[0], keep[k]);
   } else {
-    out.count = reduce(c, kept, normal, p.band, p.tolerance, keep);
+    std::array<Vec, kMaxContactPoints + 1> on_b;
+    std::array<double, kMaxContactPoints + 1> separation;
+    HEDRA_ASSERT(kept <= kMaxContactPoints + 1);
+    for (int i = 0; i < kept; ++i) {
+      on_b[i] = c[i].on_b;
+      separation[i] = c[i].separation;
+    }
+    out.count = reduce(on_b.data(), separation.data(), kept, normal, p.band, p.tolerance, keep);
   }
   out.normal = normal;
   for (int k = 0; k < out.count; ++k) {
@@ -201,7 +211,7 @@ void emit(Candidate* c, int count, const Vec& normal, const Pair& p, Local& out)
 }
 
 // manifold.cpp's build_manifold for a sharp pair on axis `best`.
-Built build(const Pair& p, const SatAxis& best, double exact_limit, const ContactSettings& settings, Local& out,
+Built build(const Pair& p, const SatAxis& best, double exact_limit, Local& out,
             int& clipped) {
   std::array<Candidate, kMaxContactPoints> c;
   int count = 0;
@@ -234,10 +244,10 @@ Built build(const Pair& p, const SatAxis& best, double exact_limit, const Contac
   // bounds their distance from below, the candidate from above): the
   // closest features are no face's interior, the exact normal decides.
   if (apart && count > 0 && deepest > best.separation + p.band) return Built::exact_normal;
-  const double bias = settings.relative_bias * std::abs(best.separation) + settings.absolute_bias * p.scale;
-  const double held = p.last ? p.hold : 0.0;
-  const double limit = std::min(best.separation + bias, exact_limit) + held;
-  if (count == 0 || deepest > limit) return Built::general;  // penetration()'s point
+  if (count == 0) return Built::general;  // penetration()'s point
+  // The deepest vertex clipped away (contact_depth.hpp): the exact normal decides.
+  if (deepest_short_of_axis(deepest, best.separation, exact_limit, p.band, p.last ? p.hold : 0.0))
+    return Built::exact_normal;
   emit(c.data(), count, best.normal, p, out);
   if (out.count == 0) {  // nothing within the contact distance: the axis
     out.distance = best.separation;
@@ -265,6 +275,7 @@ Built exact_normal(const Pair& p, const Box& a, const Pose& pose_a, const Box& b
     out.in_world = true;
     out.path = ContactPath::single_point;
     out.distance = pen.distance;
+    out.error_bound = pen.error_bound;
     out.normal = pen.normal;
     out.point_a = pen.point_a;
     out.point_b = pen.point_b;
@@ -339,6 +350,7 @@ Built exact_normal(const Pair& p, const Box& a, const Pose& pose_a, const Box& b
   face.path = of_a ? ContactPath::face_a : ContactPath::face_b;
   emit(c.data(), count, n, p, face);
   if (face.count == 0) return Built::answered;  // the single point
+  face.error_bound = bound_within(face.distance, face.error_bound, pen.distance, pen.error_bound);
   out = face;
   clipped = face_clipped;
   return Built::answered;
@@ -356,6 +368,7 @@ void place(const Local& l, const Pose& pose_a, ContactResult& out) {
   out.status = Status::ok;
   out.path = l.path;
   out.distance = l.distance;
+  out.error_bound = l.error_bound;
   out.intersecting = l.intersecting;
   out.count = l.count;
   if (l.in_world) {
@@ -397,6 +410,7 @@ bool recycle(const ContactCache& cache, const RelativePose& rel, const std::arra
   Local l;
   l.path = m.path;
   l.distance = m.distance;
+  l.error_bound = m.error_bound;
   l.normal = m.normal;
   l.point_a = m.point_a;
   l.point_b = m.point_b;
@@ -468,6 +482,7 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
       m.inputs = inputs;
       m.path = local.path;
       m.distance = local.distance;
+      m.error_bound = local.error_bound;
       m.normal = local.normal;
       m.point_a = local.point_a;
       m.point_b = local.point_b;
@@ -505,13 +520,17 @@ bool box_box_contact(const Box& a, const Pose& pose_a, const Box& b, const Pose&
       const double largest = std::max({axes.face_a.separation, axes.face_b.separation, axes.edge.separation});
       const double limit = largest <= p.band ? largest + p.band : std::numeric_limits<double>::infinity();
       const SatAxis chosen = used;
-      Built built = build(p, used, limit, settings, local, clipped);
+      Built built = build(p, used, limit, local, clipped);
       if (built == Built::exact_normal) {
         clipped = 0;
         built = exact_normal(p, a, pose_a, b, pose_b, cache, settings, local, clipped, used);
         recyclable = false;  // GJK's warm start moves with the cache
       }
       if (built == Built::general) return hand_back();
+      // Overlapping: SAT's largest separation is exact; apart (within the
+      // contact distance), a lower bound and the points' gap an upper one.
+      if (local.count > 0 || largest <= p.band)
+        local.error_bound = bound_within(local.distance, local.error_bound, largest, 0.0);
       // penetration()'s point where the cache's kept face of B was chosen
       // against the cold choice: the general path builds the cold one.
       if (local.path == ContactPath::single_point && choose_axis(axes, nullptr, settings, p.scale).kind != chosen.kind)

@@ -23,6 +23,10 @@ struct BoxTopology {
   std::array<Index, 24> origin;
   std::array<Index, 64> edge_between;  // [8 v0 + v1]: the half-edge v0 -> v1
   std::array<Vec, 6> normal;           // unit outward normals (axis vectors)
+  // Face f's side plane k (through corner k and k + 1, swept along the
+  // normal) is side_sign[f][k] * x[side_axis[f][k]] = const.
+  std::array<std::array<int, 4>, 6> side_axis;
+  std::array<std::array<double, 4>, 6> side_sign;
 };
 
 // The unit box mesh's numbering, built on first use (thread-safe).
@@ -82,8 +86,9 @@ struct Polygon {
 
 // manifold.cpp's reduce (box_face.cpp): the deepest, the farthest from it,
 // the largest positive and negative triangle areas about n, each the first
-// within ties; indices into c go to keep, their number is returned.
-int reduce(const Candidate* c, int count, const Vec& n, double depth_tie, double length_tie,
+// within ties, of points p (on B) with separations s; indices go to keep,
+// their number is returned.
+int reduce(const Vec* p, const double* s, int count, const Vec& n, double depth_tie, double length_tie,
            std::array<int, kMaxContactPoints>& keep);
 
 // manifold.cpp's exit_distance for a box (box_face.cpp): how far the ray
@@ -108,7 +113,9 @@ class FaceClipper {
  private:
   void incident_face();
   FeatureId id_of(int i, const Vec& on_ref) const;  // of clipped point i
-  int hold_last(const Candidate* c, const int* from, int count, std::array<int, kMaxContactPoints>& keep,
+  void side_planes();
+  const Polygon* clip_by_sides(Polygon& a, Polygon& b) const;
+  int hold_last(const Vec* p, const double* sep, const int* from, int count, std::array<int, kMaxContactPoints>& keep,
                 int kept) const;
   bool same_as_last(const std::array<FeatureId, kMaxContactPoints>& ids, int kept) const;
 

@@ -30,6 +30,15 @@ const BoxTopology& topology() {
       }
       out.normal[f] = m.plane(f).normal;
       HEDRA_ASSERT(out.normal[f].cwiseAbs().sum() == 1.0);  // exactly an axis vector
+      for (int j = 0; j < 4; ++j) {  // the edge's direction x the normal: one axis, any half extents
+        const Vec c =
+            (corner(Vec::Ones(), out.face_vertex[f][(j + 1) & 3]) - corner(Vec::Ones(), out.face_vertex[f][j]))
+                .cross(out.normal[f]);
+        const int i = c.x() != 0.0 ? 0 : (c.y() != 0.0 ? 1 : 2);
+        HEDRA_ASSERT(c.squaredNorm() == c[i] * c[i]);
+        out.side_axis[f][j] = i;
+        out.side_sign[f][j] = c[i] > 0.0 ? 1.0 : -1.0;
+      }
     }
     for (Index v = 0; v < 8; ++v) {
       int k = 0;
@@ -113,28 +122,29 @@ int first_near_largest(const double* value, int count, double tie, double best) 
 
 // manifold.cpp's reduce: the deepest, the farthest from it, the largest
 // positive and negative triangle areas about n, each the first within ties.
-int reduce(const Candidate* c, int count, const Vec& n, double depth_tie, double length_tie,
+// Points p[i] (on B) with their separations s[i].
+int reduce(const Vec* p, const double* s, int count, const Vec& n, double depth_tie, double length_tie,
            std::array<int, kMaxContactPoints>& keep) {
   if (count == 0) return 0;
   constexpr double kNone = -std::numeric_limits<double>::infinity();
   std::array<double, kMaxPolygon> value;
   double best = kNone;
-  for (int i = 0; i < count; ++i) best = std::max(best, value[i] = -c[i].separation);
+  for (int i = 0; i < count; ++i) best = std::max(best, value[i] = -s[i]);
   const int i0 = first_near_largest(value.data(), count, depth_tie, best);
   keep[0] = i0;
   if (count == 1) return 1;
-  const Vec p0 = c[i0].on_b;
+  const Vec p0 = p[i0];
   best = kNone;
-  for (int i = 0; i < count; ++i) best = std::max(best, value[i] = (c[i].on_b - p0).norm());
+  for (int i = 0; i < count; ++i) best = std::max(best, value[i] = (p[i] - p0).norm());
   const int i1 = first_near_largest(value.data(), count, length_tie, best);
-  const double far = (c[i1].on_b - p0).squaredNorm();
+  const double far = (p[i1] - p0).squaredNorm();
   if (!(far > 0.0)) return 1;
   keep[1] = i1;
-  const Vec p1 = c[i1].on_b;
+  const Vec p1 = p[i1];
   std::array<double, kMaxPolygon> area, negated;
   double best_area = kNone, best_negated = kNone;
   for (int i = 0; i < count; ++i) {
-    area[i] = (p0 - c[i].on_b).cross(p1 - c[i].on_b).dot(n);
+    area[i] = (p0 - p[i]).cross(p1 - p[i]).dot(n);
     negated[i] = -area[i];
     best_area = std::max(best_area, area[i]);
     best_negated = std::max(best_negated, negated[i]);
@@ -186,22 +196,87 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
     if (!incident_[k].allFinite()) return false;  // what clip() carries over is finite
   }
   a.count = 4;
-  for (int k = 0; k < 4; ++k) {
-    const Vec edge_cross = (ref_corner_[(k + 1) & 3] - ref_corner_[k]).cross(u_);
-    if (axis_aligned_) {  // along one axis: its unit vector is what normalized() gives, bit for bit
-      const int i = edge_cross.x() != 0.0 ? 0 : (edge_cross.y() != 0.0 ? 1 : 2);
-      HEDRA_ASSERT(edge_cross.squaredNorm() == edge_cross[i] * edge_cross[i]);
-      side_axis_[k] = i;
-      side_normal_[k] = (edge_cross[i] > 0.0 ? 1.0 : -1.0) * Vec::Unit(i);
-    } else {
-      side_normal_[k] = edge_cross.normalized();
+  side_planes();
+  const Polygon* src = clip_by_sides(a, b);
+  if (!src) return false;
+  clipped_ = src;
+  clipped = src->count;
+  // The points within max_separation: their separations, and where they are
+  // in the clipped polygon (all of it, the common case, needs no copy).
+  std::array<double, kMaxPolygon> sep;
+  std::array<int, kMaxPolygon> from;
+  int count = 0;
+  // A face of A along its normal: n_ is an axis vector and the slope 1, so
+  // the separation is one coordinate less the offset, bit for bit.
+  const int normal_axis = static_cast<int>(ref_face_ >> 1);
+  const bool positive = axis_aligned_ && n_[normal_axis] > 0.0;
+  HEDRA_ASSERT(!axis_aligned_ || std::abs(n_[normal_axis]) == 1.0);
+  for (int i = 0; i < src->count; ++i) {
+    const double s = axis_aligned_ ? (positive ? src->p[i][normal_axis] : -src->p[i][normal_axis]) - offset
+                                   : (n_.dot(src->p[i]) - offset) / slope;
+    if (s <= max_separation) {
+      from[count] = i;
+      sep[count++] = s;
     }
-    side_offset_[k] = side_normal_[k].dot(ref_corner_[k]);
   }
+  std::array<Vec, kMaxPolygon> below;
+  const Vec* pts = src->p.data();
+  if (count != src->count) {
+    for (int i = 0; i < count; ++i) below[i] = src->p[from[i]];
+    pts = below.data();
+  }
+  std::array<int, kMaxContactPoints> keep{};
+  const int kept = reduce(pts, sep.data(), count, u_, pair_.band, pair_.tolerance, keep);
+  std::array<FeatureId, kMaxContactPoints> ids;
+  const auto name_kept = [&] {
+    for (int i = 0; i < kept; ++i) ids[i] = id_of(from[keep[i]], Vec(pts[keep[i]] - sep[keep[i]] * u_));
+  };
+  name_kept();
+  // With a cache, the last frame's points while they hold (hold_last); when
+  // the cold choice is those very points (the same features touch: the
+  // common case) nothing else needs a name.
+  if (pair_.last && count > kMaxContactPoints && !same_as_last(ids, kept)) {
+    const std::array<int, kMaxContactPoints> cold = keep;
+    hold_last(pts, sep.data(), from.data(), count, keep, kept);
+    if (keep != cold) name_kept();
+  }
+  out_count = 0;
+  for (int i = 0; i < kept; ++i) {
+    const double s = sep[keep[i]];
+    const Vec& p = pts[keep[i]];
+    const Vec on_ref = p - s * u_;
+    out[out_count++] = ref_is_a_ ? Candidate{on_ref, p, s, ids[i]} : Candidate{p, on_ref, s, ids[i]};
+  }
+  return true;
+}
+
+// The reference face's side planes: on a face of A swept along its normal,
+// +-x_i = h_i from the topology's table (bit for bit the unit axis normal
+// and offset the general path builds); otherwise the edge x the sweep.
+void FaceClipper::side_planes() {
+  const BoxTopology& topo = topo_;
+  for (int k = 0; k < 4; ++k) {
+    if (axis_aligned_) {
+      const int i = topo.side_axis[ref_face_][k];
+      const double sign = topo.side_sign[ref_face_][k];
+      side_axis_[k] = i;
+      side_normal_[k] = sign * Vec::Unit(i);
+      side_offset_[k] = sign * ref_corner_[k][i];
+      HEDRA_ASSERT(side_offset_[k] == side_normal_[k].dot(ref_corner_[k]));
+    } else {
+      side_normal_[k] = (ref_corner_[(k + 1) & 3] - ref_corner_[k]).cross(u_).normalized();
+      side_offset_[k] = side_normal_[k].dot(ref_corner_[k]);
+    }
+  }
+}
+
+// The incident polygon `a` clipped by the four side planes in turn (`b` the
+// scratch); null on a non-finite crossing. A plane no point lies beyond (by
+// more than the tolerance) leaves the polygon as it is, provenance
+// included: that pass is skipped.
+const Polygon* FaceClipper::clip_by_sides(Polygon& a, Polygon& b) const {
   Polygon* src = &a;
   Polygon* dst = &b;
-  // A plane no point lies beyond (by more than the tolerance) leaves the
-  // polygon as it is, provenance included: that pass is skipped.
   std::array<double, kMaxPolygon> dist;
   for (int k = 0; k < 4 && src->count > 0; ++k) {
     const double d = side_offset_[k];
@@ -220,45 +295,10 @@ bool FaceClipper::run(double max_separation, Candidate* out, int& out_count, int
       }
     }
     if (!beyond) continue;
-    if (!clip(*src, dist.data(), 4 + k, pair_.tolerance, *dst)) return false;
+    if (!clip(*src, dist.data(), 4 + k, pair_.tolerance, *dst)) return nullptr;
     std::swap(src, dst);
   }
-  clipped_ = src;
-  clipped = src->count;
-  std::array<Candidate, kMaxPolygon> below;
-  std::array<int, kMaxPolygon> from;  // the clipped point each candidate is
-  int count = 0;
-  for (int i = 0; i < src->count; ++i) {
-    const double s = (n_.dot(src->p[i]) - offset) / slope;
-    if (s <= max_separation) {
-      from[count] = i;
-      below[count++] = Candidate{src->p[i], src->p[i], s, FeatureId{}};
-    }
-  }
-  std::array<int, kMaxContactPoints> keep{};
-  const int kept = reduce(below.data(), count, u_, pair_.band, pair_.tolerance, keep);
-  std::array<FeatureId, kMaxContactPoints> ids;
-  const auto name_kept = [&] {
-    for (int i = 0; i < kept; ++i)
-      ids[i] = id_of(from[keep[i]], Vec(below[keep[i]].on_b - below[keep[i]].separation * u_));
-  };
-  name_kept();
-  // With a cache, the last frame's points while they hold (hold_last); when
-  // the cold choice is those very points (the same features touch: the
-  // common case) nothing else needs a name.
-  if (pair_.last && count > kMaxContactPoints && !same_as_last(ids, kept)) {
-    const std::array<int, kMaxContactPoints> cold = keep;
-    hold_last(below.data(), from.data(), count, keep, kept);
-    if (keep != cold) name_kept();
-  }
-  out_count = 0;
-  for (int i = 0; i < kept; ++i) {
-    const double s = below[keep[i]].separation;
-    const Vec& p = below[keep[i]].on_b;
-    const Vec on_ref = p - s * u_;
-    out[out_count++] = ref_is_a_ ? Candidate{on_ref, p, s, ids[i]} : Candidate{p, on_ref, s, ids[i]};
-  }
-  return true;
+  return src;
 }
 
 // manifold.cpp's feature ids: an incident corner kept as is, else a
@@ -329,6 +369,12 @@ FeatureId FaceClipper::id_of(int i, const Vec& on_ref) const {
 bool FaceClipper::same_as_last(const std::array<FeatureId, kMaxContactPoints>& ids, int kept) const {
   const ContactCache& last = *pair_.last;
   if (last.kept_count != kept) return false;
+  // The common case first: the same ids in the same order, all distinct.
+  bool in_order = true;
+  for (int i = 0; i < kept && in_order; ++i) in_order = last.kept[i] == ids[i];
+  for (int i = 0; i < kept && in_order; ++i)
+    for (int k = i + 1; k < kept && in_order; ++k) in_order = ids[k] != ids[i];
+  if (in_order) return true;
   for (int i = 0; i < kept; ++i) {
     int matches = 0;
     for (int k = 0; k < kept; ++k) matches += last.kept[k] == ids[i];
@@ -340,20 +386,20 @@ bool FaceClipper::same_as_last(const std::array<FeatureId, kMaxContactPoints>& i
 
 // manifold.cpp's hold_last: the last frame's four points while all are
 // still candidates and their deepest is within the hold of the deepest.
-int FaceClipper::hold_last(const Candidate* c, const int* from, int count, std::array<int, kMaxContactPoints>& keep,
-                           int kept) const {
+int FaceClipper::hold_last(const Vec* p, const double* sep, const int* from, int count,
+                           std::array<int, kMaxContactPoints>& keep, int kept) const {
   const ContactCache& last = *pair_.last;
   if (last.kept_count != kept) return kept;
   std::array<int, kMaxContactPoints> held{};
   int found = 0;
   double deepest = std::numeric_limits<double>::infinity(), deepest_held = deepest;
   for (int i = 0; i < count; ++i) {
-    deepest = std::min(deepest, c[i].separation);
-    const FeatureId id = id_of(from[i], Vec(c[i].on_b - c[i].separation * u_));
+    deepest = std::min(deepest, sep[i]);
+    const FeatureId id = id_of(from[i], Vec(p[i] - sep[i] * u_));
     for (int k = 0; k < last.kept_count; ++k)
       if (last.kept[k] == id && found < kMaxContactPoints) {
         held[found++] = i;
-        deepest_held = std::min(deepest_held, c[i].separation);
+        deepest_held = std::min(deepest_held, sep[i]);
       }
   }
   if (found != kept || !(deepest_held <= deepest + pair_.hold)) return kept;

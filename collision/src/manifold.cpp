@@ -12,6 +12,7 @@
 
 #include "box_box.hpp"
 #include "contact_choice.hpp"
+#include "contact_depth.hpp"
 #include "face_certificate.hpp"
 #include "segment_box.hpp"
 
@@ -722,7 +723,10 @@ ContactResult rounded_cores_apart(const PolytopePair& pp, const Pose& pose_a, co
   if (used.kind != SatAxisKind::none) {
     ContactResult out;
     out.stats = stats;
-    if (rounded_face_manifold(pp, world, used, n, &single, out)) return out;
+    if (rounded_face_manifold(pp, world, used, n, &single, out)) {
+      out.error_bound = detail::bound_within(out.distance, out.error_bound, single.distance, single.error_bound);
+      return out;
+    }
   } else {
     used.kind = SatAxisKind::edge;
     used.feature_a = edge_across(pp.pa, n);
@@ -753,6 +757,7 @@ bool rounded_apart_from_cache(const PolytopePair& pp, const WorldFrame& world, c
   p.normal = world.direction(axis.normal);
   p.point_a = world.point(on_a + pp.ra * axis.normal);
   p.point_b = world.point(on_b - pp.rb * axis.normal);
+  p.error_bound = 3.0 * pp.band;  // the axis certified within the band, its supports within 2 band
   const ContactStats stats = out.stats;
   const ContactResult single = penetration_point(p, pp.shape_scale, settings);
   out.stats = stats;
@@ -884,21 +889,20 @@ ContactResult build_manifold(const Shape& shape_a, const Pose& pose_a, const Sha
     remember(cache, used);
     return r;
   }
+  // A face too large for the fixed buffers, or an incident face entirely
+  // outside the reference face's side planes: one point from penetration().
+  if (!built || candidates.size == 0) return fallback();
   // The incident shape's deepest vertex clipped away by the reference face's
-  // side planes (deep contacts near an edge): the kept points would be
-  // shallower than the axis by more than the bias allows, or shallower than
-  // the pair's exact separation (exact_limit, the cores' when known, with
-  // its tolerance: the deepest point is never shallower than the exact
-  // depth, but for the last frame's points a warm query holds: at most
-  // pp.hold shallower than the deepest candidate).
-  const double bias = settings.relative_bias * std::abs(best.separation) + settings.absolute_bias * pp.scale;
+  // side planes (contact_depth.hpp): no point on the two surfaces is as deep
+  // as the overlap along the axis, so the exact normal decides.
   const double held = pp.last ? pp.hold : 0.0;
-  const double limit = std::min(axis_separation + bias, exact_limit - (shifted ? ra + rb : 0.0)) + held;
-  const bool deepest_clipped = deepest > limit;
-  // A face too large for the fixed buffers, an incident face entirely
-  // outside the reference face's side planes, or its deepest vertex outside
-  // them: one point from penetration().
-  if (!built || candidates.size == 0 || deepest_clipped) return fallback();
+  if (detail::deepest_short_of_axis(deepest, axis_separation, exact_limit - (shifted ? ra + rb : 0.0), pp.band,
+                                    held)) {
+    SatAxis used;
+    const ContactResult r = rounded_cores_apart(pp, pose_a, world, fallback(), stats, settings, used);
+    remember(cache, used);
+    return r;
+  }
   emit(candidates, normal, shifted ? 0.0 : ra, shifted ? 0.0 : rb, pp.keep, ties, world, out);
   if (out.count == 0) {
     // Nothing within the contact distance after clipping (a gap along the
@@ -1124,7 +1128,13 @@ ContactResult contact_by_sat(const Shape& shape_a, const Pose& pose_a, const Sha
   const double largest = std::max({s.face_a.separation, s.face_b.separation, s.edge.separation});
   const double band = settings.penetration.touching_band * pp.scale;
   const double limit = largest <= band ? largest + band : std::numeric_limits<double>::infinity();
-  return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, stats, limit);
+  ContactResult r = build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, stats, limit);
+  // Cores overlapping: SAT's largest separation is the exact one; apart
+  // (within the contact distance), it is a lower bound and the reported
+  // distance, two surface points' gap, an upper one.
+  if (r.count > 0 || largest <= band)
+    r.error_bound = detail::bound_within(r.distance, r.error_bound, largest - pp.ra - pp.rb, 0.0);
+  return r;
 }
 
 // The exact normal's axes: penetration() (GJK, EPA when the cores overlap)
@@ -1170,7 +1180,10 @@ ContactResult contact_by_normal(const Shape& shape_a, const Pose& pose_a, const 
   c.edge.feature_a = edge_across(pp.pa, n);
   c.edge.feature_b = edge_across(pp.pb, -(pp.rel.rotation.transpose() * n));
   const double limit = s_exact + p.error_bound + settings.penetration.touching_band * pp.scale;
-  return build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, &exact, cache, settings, ContactStats{}, limit);
+  ContactResult r =
+      build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, &exact, cache, settings, ContactStats{}, limit);
+  r.error_bound = detail::bound_within(r.distance, r.error_bound, p.distance, p.error_bound);
+  return r;
 }
 
 // The cached axis certified exact within tol at the new poses: an edge pair
@@ -1243,16 +1256,22 @@ bool answer_from_cache(const Shape& shape_a, const Pose& pose_a, const Shape& sh
     if (!(axis.separation > band)) return false;
     if (!rounded_apart_from_cache(pp, world, axis, settings, out)) return false;
     remember(cache, axis.kind == SatAxisKind::edge ? axis : rounded_face_along(pp, axis.normal, settings));
+    out.error_bound = detail::bound_within(out.distance, out.error_bound, axis.separation - pp.ra - pp.rb, 3.0 * band);
     return true;
   }
   if (axis.kind != SatAxisKind::edge) {
     out = build_manifold(shape_a, pose_a, shape_b, pose_b, pp, world, axis, nullptr, cache, settings, hit,
                          axis.separation + tol + band);
+    // Certified: the cores' exact separation lies in [s, s + tol].
+    out.error_bound =
+        detail::bound_within(out.distance, out.error_bound, axis.separation + 0.5 * tol - pp.ra - pp.rb, 0.5 * tol);
     return true;
   }
   const AxisCandidates c{face_near(pp, axis.normal, true), face_near(pp, axis.normal, false), axis};
   out = build_chosen(shape_a, pose_a, shape_b, pose_b, pp, world, c, nullptr, cache, settings, hit,
                      axis.separation + 2.0 * band);
+  // Certified within the band; the edge pair's supports within 2 band.
+  out.error_bound = detail::bound_within(out.distance, out.error_bound, axis.separation - pp.ra - pp.rb, 3.0 * band);
   return true;
 }
 
@@ -1451,6 +1470,7 @@ ContactResult penetration_point(const PenetrationResult& p, double scale, const 
   out.path = ContactPath::single_point;
   if (p.status == Status::degenerate || p.status == Status::invalid_input) return out;
   out.distance = p.distance;
+  out.error_bound = p.error_bound;
   out.normal = p.normal;
   out.point_a = p.point_a;
   out.point_b = p.point_b;
@@ -1694,6 +1714,7 @@ ContactResult curved_contact(const Shape& shape_a, const SA& a, const Pose& pose
   const Ties ties{settings.penetration.touching_band * scale, tol};
   emit(candidates, n, 0.0, 0.0, keep_below(settings, scale + std::max(ra, rb)), ties, world, out);
   if (out.count == 0) return first;
+  out.error_bound = detail::bound_within(out.distance, out.error_bound, first.distance, first.error_bound);
   return out;
 }
 
@@ -1736,8 +1757,17 @@ ContactResult contact(const Shape& a, const Pose& pose_a, const Shape& b, const 
     return out;
   }
   return std::visit(
-      [&](const auto& sa, const auto& sb) { return contact_typed(a, sa, pose_a, b, sb, pose_b, cache, settings); }, a,
-      b);
+      [&](const auto& sa, const auto& sb) {
+        ContactResult r = contact_typed(a, sa, pose_a, b, sb, pose_b, cache, settings);
+        if (r.status == Status::invalid_input || r.status == Status::degenerate)
+          r.error_bound = std::numeric_limits<double>::infinity();
+        else if (std::isfinite(r.error_bound))
+          r.error_bound += detail::contact_rounding(detail::rough_size(sa) + detail::rough_size(sb),
+                                                    pose_b.translation - pose_a.translation);
+        HEDRA_ASSERT(r.error_bound >= 0.0);  // manifold.hpp: a bound, never NaN
+        return r;
+      },
+      a, b);
 }
 
 }  // namespace hedra::collision

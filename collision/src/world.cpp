@@ -327,6 +327,7 @@ bool query_pair(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, 
       out.normal = r.normal;
       out.point_a = r.point_a;
       out.point_b = r.point_b;
+      out.error_bound = r.error_bound;
       out.count = r.count;
       out.points = r.points;
       return r.status != Status::ok || (r.path != ContactPath::separated && r.distance <= reach);

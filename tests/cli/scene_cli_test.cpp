@@ -280,6 +280,30 @@ TEST_F(SceneCli, ContactReturnsTheFaceManifold) {
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
 }
 
+// A contact query's --stats carry the manifold's certified error bound
+// (ContactResult::error_bound, as a penetration query's): the exact depth 0.01
+// of a crate resting in a ground box lies within it, and it is rounding small;
+// a pair apart beyond the contact distance reports penetration()'s distance
+// and bound.
+TEST_F(SceneCli, ContactReportsItsErrorBound) {
+  const std::string file = write(
+      "contact_bound.json",
+      scene(
+          R"({"ground": {"type": "box", "half_extents": [2, 2, 0.5]}, "crate": {"type": "box", "half_extents": [0.5, 0.5, 0.5]}})",
+          R"({"g": {"shape": "ground"}, "c": {"shape": "crate", "position": [0.3, 0, 0.99]}, "far": {"shape": "crate", "position": [0, 0, 3]}})",
+          R"([{"a": "g", "b": "c", "type": "contact"}, {"a": "g", "b": "far", "type": "contact"}])"));
+  const nlohmann::json document = run_json({"query", file, "--json", "--stats"});
+  const nlohmann::json& resting = document["results"][0];
+  ASSERT_TRUE(resting.contains("stats")) << resting.dump();
+  const double bound = resting["stats"]["error_bound"].get<double>();
+  EXPECT_GE(bound, 0.0);
+  EXPECT_LT(bound, 1e-12);
+  EXPECT_LE(std::abs(resting["distance"].get<double>() + 0.01), bound + 1e-15);
+  const nlohmann::json& apart = document["results"][1];
+  EXPECT_NEAR(apart["distance"].get<double>(), 2.0, apart["stats"]["error_bound"].get<double>() + 1e-12);
+  EXPECT_LT(apart["stats"]["error_bound"].get<double>(), 1e-9);
+}
+
 // A box 0.01 above a larger box: with "contact_distance": 0.02 the contact
 // query returns the four corners as speculative points (depth -0.01, not
 // intersecting); without it, no points (the format's default, 0).

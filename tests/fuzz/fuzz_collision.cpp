@@ -23,7 +23,9 @@
 //   - box pairs: contact()'s box path equals the general polytope path, a
 //     still pair's cached answer equals its first, a moved one's warm answer
 //     the cold one within the face bias;
-//   - contact(): at most four points, every point and depth finite; when it
+//   - contact(): at most four points, every point and depth finite, its
+//     error bound >= 0 and, when finite, within it of penetration()'s
+//     distance (and that one's bound); when it
 //     and penetration() both answer ok, it says intersecting when the pair
 //     is deeper than the face bias of manifold.hpp, and a separation it
 //     reports is at most the signed distance plus that bias.
@@ -699,6 +701,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (int k = 0; k < c_ab.count; ++k) {
     HEDRA_FUZZ_CHECK(finite(c_ab.points[k].point) && std::isfinite(c_ab.points[k].depth),
                      "contact point %d non-finite (status %s)", k, to_string(c_ab.status));
+  }
+  // The contact's certified bound: never NaN or negative; where it and
+  // penetration()'s are finite, their brackets of the exact signed distance meet.
+  HEDRA_FUZZ_CHECK(c_ab.error_bound >= 0.0, "contact error bound %g", c_ab.error_bound);
+  if (c_ab.status == Status::ok && p_ab.status == Status::ok && std::isfinite(c_ab.error_bound)) {
+    HEDRA_FUZZ_CHECK(std::abs(c_ab.distance - p_ab.distance) <= c_ab.error_bound + p_ab.error_bound + 1e-9 * larger,
+                     "contact distance %.17g +- %g, penetration %.17g +- %g", c_ab.distance, c_ab.error_bound,
+                     p_ab.distance, p_ab.error_bound);
   }
   if (!valid) {
     HEDRA_FUZZ_CHECK(i_ab.status == Status::invalid_input && d_ab.status == Status::invalid_input &&

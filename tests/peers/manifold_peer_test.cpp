@@ -9,14 +9,14 @@
 // exact one, deepest depth within 1e-9 of the size), hedra's normal and
 // deepest depth equal Bullet's, or its face bias kept another face (no deeper
 // than the overlap along it). Found (256 cases): Bullet exact in 79 (hedra
-// agrees in 60, another face by the bias in 19); Bullet without a point on 85
-// of the 128 touching cases; its deepest point shallower than exact in 37
-// (worst 1.1e-4 of the size), deeper than exact plus the bias in 30 (worst
-// 0.14: the clipped depths are measured along A's face normal whatever axis
-// won), its normal off the exact one in 44, 338 of its 642 points off a
-// surface (worst 0.32 of the size); hedra 0 of 522 off a surface, and one
-// deep hull pair whose face contact lost its deepest incident vertex to the
-// clipping (1.1e-3 of the size below exact, within the bias). Fixed seeds.
+// agrees in all 79: a face kept by the bias whose clipping drops the
+// incident shape's deepest vertex follows the exact normal); Bullet
+// without a point on 85 of the 128 touching cases; its deepest point
+// shallower than exact in 37 (worst 1.1e-4 of the size), deeper than exact
+// plus the bias in 30 (worst 0.14: the clipped depths are measured along A's
+// face normal whatever axis won), its normal off the exact one in 44, 338 of
+// its 642 points off a surface (worst 0.32 of the size); hedra 0 of 481 off a
+// surface, its deepest point never below the exact depth. Fixed seeds.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>

@@ -21,7 +21,8 @@ COLUMNS = {
     "intersect": ["intersecting", "status"],
     "distance": ["distance", "normal", "point_a", "point_b", "intersecting", "error_bound", "status"],
     "penetration": ["distance", "normal", "point_a", "point_b", "intersecting", "error_bound", "status"],
-    "contact": ["distance", "normal", "point_a", "point_b", "intersecting", "status", "count", "points", "depths"],
+    "contact": ["distance", "normal", "point_a", "point_b", "intersecting", "error_bound", "status", "count", "points",
+                "depths"],
 }
 
 

@@ -143,6 +143,25 @@ def test_contact_box_on_box():
     assert spec.count == 4 and np.allclose(spec.depths, -0.1, atol=1e-12)
 
 
+def test_contact_error_bound():
+    a = hedra.Box([1.0, 1.0, 0.5])
+    b = hedra.Box([0.5, 0.5, 0.5])
+    # resting 0.05 deep: the exact depth within the certified bound, the bound rounding small
+    c = hedra.contact(a, np.eye(4), b, pose7((0.2, 0, 0.95)))
+    assert 0.0 <= c.error_bound < 1e-12
+    assert abs(c.distance + 0.05) <= c.error_bound
+    assert np.allclose(c.point_b - c.point_a, c.distance * c.normal, atol=1e-12)
+    # a sphere on the box (penetration()'s point): its own bound
+    s = hedra.contact(a, np.eye(4), hedra.Sphere(0.25), pose7((0.1, 0.2, 0.7)))
+    assert abs(s.distance + 0.05) <= s.error_bound + 1e-15 and s.error_bound < 1e-9
+    # apart beyond the contact distance: SAT's separation, only a lower bound
+    far = hedra.contact(a, np.eye(4), b, pose7((0, 0, 1.1)))
+    assert far.distance <= 0.1 + 1e-12 and far.error_bound == np.inf
+    # the batch carries the same column
+    many = hedra.contact_many(a, np.eye(4), b, np.array([pose7((0.2, 0, 0.95)), pose7((0, 0, 1.1))]))
+    assert many["error_bound"][0] == c.error_bound and many["error_bound"][1] == np.inf
+
+
 def test_raycast_closed_form():
     box = hedra.Box([0.5, 0.5, 0.5])
     h = hedra.raycast(box, pose7((1, 0, 0)), [1, 0, 3], [0, 0, -1], max_fraction=10)

@@ -53,6 +53,7 @@ def test_pairs_equal_brute_force(seed, n, extent, max_distance):
                 "contact": lambda *a: hedra.contact(*a, contact_distance=max_distance),
             }[query](shapes[i], poses[i], shapes[j], poses[j])
             assert got["distance"][k] == pytest.approx(single.distance, abs=1e-9)
+            assert got["error_bound"][k] == pytest.approx(single.error_bound, rel=1e-6, abs=1e-9), query
 
 
 def test_same_bits_for_any_thread_count():

@@ -143,6 +143,7 @@ QueryOutcome run_contact(const collision::Shape& a, const collision::Pose& pa, c
   const collision::ContactResult& m = r.manifold;
   out.status = collision::to_string(m.status);
   out.intersecting = m.intersecting;
+  out.error_bound = std::isfinite(m.error_bound) ? m.error_bound : 0.0;
   const bool defined = m.status != collision::Status::degenerate && m.status != collision::Status::invalid_input;
   if (defined) {
     set_geometry(out, m.distance, m.normal, m.point_a, m.point_b, true);

@@ -205,7 +205,7 @@ void bind_batches(py::module_& m) {
       },
       py::arg("a"), py::arg("poses_a"), py::arg("b"), py::arg("poses_b"), py::kw_only(),
       py::arg("contact_distance") = 0.0, py::arg("threads") = 0, py::arg("settings") = py::none(),
-      "contact() on N pose pairs: the arrays of penetration_many (but error_bound) plus count (N,), points (N, 4, 3) "
+      "contact() on N pose pairs: the arrays of penetration_many plus count (N,), points (N, 4, 3) "
       "and depths (N, 4), unused slots zero.");
   m.def("raycast_many", &raycast_rows, py::arg("shape"), py::arg("pose"), py::arg("origins"), py::arg("directions"),
         py::kw_only(), py::arg("max_fraction") = 1.0, py::arg("threads") = 0, py::arg("settings") = py::none(),

@@ -44,8 +44,8 @@ struct Columns {
 enum class QueryKind { intersect, distance, penetration, contact };
 
 // The dict with every column of `kind` for n rows (status, intersecting;
-// then distance, normal, point_a, point_b; error_bound but for contact;
-// contact: count, points, depths).
+// then distance, normal, point_a, point_b, error_bound; contact: count,
+// points, depths).
 inline Columns add_columns(py::dict& dict, QueryKind kind, std::size_t n) {
   const auto rows = static_cast<py::ssize_t>(n);
   Columns c;
@@ -56,7 +56,7 @@ inline Columns add_columns(py::dict& dict, QueryKind kind, std::size_t n) {
   c.normal = add_column<double>(dict, "normal", {rows, 3});
   c.point_a = add_column<double>(dict, "point_a", {rows, 3});
   c.point_b = add_column<double>(dict, "point_b", {rows, 3});
-  if (kind != QueryKind::contact) c.error_bound = add_column<double>(dict, "error_bound", {rows});
+  c.error_bound = add_column<double>(dict, "error_bound", {rows});
   if (kind != QueryKind::contact) return c;
   c.count = add_column<std::int64_t>(dict, "count", {rows});
   c.points = add_column<double>(dict, "points", {rows, collision::kMaxContactPoints, 3});
@@ -76,9 +76,7 @@ void put_row(const Columns& c, std::size_t i, const R& r) {
     put(c.normal + 3 * i, r.normal);
     put(c.point_a + 3 * i, r.point_a);
     put(c.point_b + 3 * i, r.point_b);
-    if constexpr (!std::is_same_v<R, collision::ContactResult>) {
-      if (c.error_bound) c.error_bound[i] = r.error_bound;
-    }
+    if (c.error_bound) c.error_bound[i] = r.error_bound;
     if constexpr (!std::is_same_v<R, collision::DistanceResult> && !std::is_same_v<R, collision::PenetrationResult>) {
       if (c.count) {
         c.count[i] = r.count;

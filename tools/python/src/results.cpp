@@ -119,7 +119,8 @@ void bind_results(py::module_& m) {
   py::class_<ContactResult> contact(m, "ContactResult",
                                     "What hedra.contact() answers: up to four points midway between the surfaces.");
   bind_distance_members<ContactResult>(contact);
-  contact.def_readonly("count", &ContactResult::count)
+  contact.def_readonly("error_bound", &ContactResult::error_bound)
+      .def_readonly("count", &ContactResult::count)
       .def_property_readonly("points",
                              [](const ContactResult& r) {
                                py::array_t<double> out({static_cast<py::ssize_t>(r.count), py::ssize_t{3}});

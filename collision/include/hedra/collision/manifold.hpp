@@ -41,7 +41,12 @@
 //     challenger must beat the incumbent by relative_bias |s| +
 //     absolute_bias scale, so a tilt of 1e-6 rad never flips the manifold.
 //     The reported depth is therefore at most that bias above the exact
-//     penetration depth.
+//     penetration depth (ContactResult::error_bound says by how much). It
+//     is the overlap along the reported normal, h_A(n) + h_B(-n), and the
+//     deepest point is that deep: a face contact whose clipping cut away
+//     the incident shape's deepest vertex (no point can be as deep as its
+//     axis) follows the exact normal as for cores apart below
+//     (contact_depth.hpp).
 //   * a capsule against a polytope: the penetration normal (penetration());
 //     when it is within face_angle_tolerance of a face normal of the
 //     polytope the capsule's segment is clipped by that face's side planes
@@ -78,9 +83,7 @@
 // normal: the incident face clipped by the reference face's side planes
 // swept along n, each point's depth the gap of the rounded surfaces on its
 // line along n (both sides' exits from their grown cores), the deepest
-// penetration()'s; otherwise penetration()'s point. A face contact whose kept points are
-// shallower than its axis by more than the bias (the deepest incident
-// vertex clipped away) is penetration()'s point too.
+// penetration()'s; otherwise penetration()'s point.
 //
 // Points. Each ContactPoint holds the midpoint between the two surfaces and
 // the depth along the normal: the point on A is point + (depth / 2) normal,
@@ -132,6 +135,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <hedra/collision/query.hpp>
 #include <hedra/collision/sat.hpp>
 
@@ -239,6 +243,7 @@ struct BoxPairMemory {
   std::array<double, 12> inputs{};  // half extents, margins and settings it was computed with
   ContactPath path = ContactPath::none;
   double distance = 0.0;
+  double error_bound = 0.0;
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // A's frame
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero(), point_b = Eigen::Vector3d::Zero();
   int count = 0;
@@ -275,6 +280,13 @@ struct ContactResult {
   // axis. For a polytope pair separated beyond the contact distance it is
   // the SAT separation, a lower bound on the distance.
   double distance = 0.0;
+  // Certified: the exact signed distance of the two shapes lies in
+  // [distance - error_bound, distance + error_bound] (rounding included).
+  // It covers the face bias (a face kept while another axis overlaps less)
+  // and penetration()'s own bound on the paths that use it. +infinity when
+  // nothing bounds it: the pair separated beyond the contact distance (path
+  // `separated`: the distance only a lower bound), or invalid input.
+  double error_bound = std::numeric_limits<double>::infinity();
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, from A toward B, world
   // The deepest point's witnesses on A and B (world).
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
