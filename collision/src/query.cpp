@@ -18,6 +18,7 @@
 
 #include "closed_form.hpp"
 #include "query_detail.hpp"
+#include "sat_depth.hpp"
 
 namespace hedra::collision {
 
@@ -403,6 +404,26 @@ class PenetrationSteps {
   EpaResult parallel_;
 };
 
+// Two overlapping boxes: SAT's depth over the 15 axes, certified within
+// EPA's tolerance (sat_depth.hpp), before GJK and EPA; false leaves the
+// pair to them (apart, a zero extent, or the certificate fell short).
+bool sat_depth_answer(const Box& a, const Pose& pose_a, const Box& b, const Pose& pose_b,
+                      const PenetrationSettings& settings, PenetrationResult& out) {
+  const RelativePose rel = relative_pose(pose_a, core_offset(a), pose_b, core_offset(b));
+  const double radius_a = core_radius(a), radius_b = core_radius(b);
+  const double scale = std::max(a.half_extents.norm() + radius_a, b.half_extents.norm() + radius_b);
+  detail::SatDepth d;
+  if (!detail::sat_depth(a, b, rel, scale, settings.epa, d)) return false;
+  HEDRA_ASSERT(is_unit(d.normal) && d.error_bound >= 0.0 && d.distance <= 0.0);
+  out.status = Status::ok;
+  out.error_bound = d.error_bound;
+  out.support_calls = d.axes_tested;
+  out.distance = d.distance - (radius_a + radius_b);
+  out.intersecting = out.distance <= 0.0;
+  place_in_world(out, core_offset(a), pose_a, radius_a, radius_b, d.point_a, d.point_b, d.distance, d.normal);
+  return true;
+}
+
 template <class SA, class SB>
 PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b, const Pose& pose_b, GjkCache* cache,
                                     const PenetrationSettings& settings) {
@@ -415,6 +436,10 @@ PenetrationResult penetration_typed(const SA& a, const Pose& pose_a, const SB& b
   if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Sphere>) {
     PenetrationResult out;
     if (closed_form::sphere_box(b, pose_b, a, pose_a, false, out)) return out;
+  }
+  if constexpr (std::is_same_v<SA, Box> && std::is_same_v<SB, Box>) {
+    PenetrationResult out;
+    if (sat_depth_answer(a, pose_a, b, pose_b, settings, out)) return out;
   }
   PairSetup<SA, SB> p(a, pose_a, b, pose_b, cache);
   const Transformed<decltype(p.core_b)> placed_b{p.core_b, p.relative.rotation, p.relative.translation};

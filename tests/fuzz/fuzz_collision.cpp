@@ -575,6 +575,33 @@ void check_box_pair(const Shape& a, const Pose& pose_a, const Shape& b, const Po
                      "a moved box pair: warm distance %.17g, cold %.17g", warm.distance, cold.distance);
 }
 
+// Overlapping box pairs (collision/src/sat_depth.cpp: SAT's 15 axes):
+// penetration()'s answer `p` against the same boxes as hulls of their
+// corners (GJK and EPA), within both error bounds and tol.
+void check_box_depth(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                     const hedra::collision::PenetrationResult& p, double tol) {
+  if (p.status != Status::ok || !p.intersecting) return;
+  const auto as_hull = [](const hedra::collision::Box& box, Shape& out) {
+    std::vector<Vec> corners;
+    for (int i = 0; i < 8; ++i)
+      corners.push_back(box.half_extents.cwiseProduct(Vec(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1)));
+    const auto built = hedra::collision::ConvexPolyhedron::build(corners);
+    if (!built.ok() || built.polyhedron->dimension() != 3) return false;
+    out = hedra::collision::Polyhedron{built.polyhedron, box.margin};
+    return true;
+  };
+  Shape hull_a, hull_b;
+  if (!as_hull(std::get<hedra::collision::Box>(a), hull_a) || !as_hull(std::get<hedra::collision::Box>(b), hull_b))
+    return;
+  const hedra::collision::PenetrationResult e = penetration(hull_a, pose_a, hull_b, pose_b);
+  if (e.status != Status::ok) return;
+  HEDRA_FUZZ_CHECK(std::fabs(p.distance - e.distance) <= p.error_bound + e.error_bound + tol,
+                   "box pair: penetration %.17g (bound %.3g), as hulls %.17g (bound %.3g)", p.distance, p.error_bound,
+                   e.distance, e.error_bound);
+  HEDRA_FUZZ_CHECK((p.point_b - p.point_a - p.distance * p.normal).norm() <= tol,
+                   "box pair: witnesses off the normal by %.3g", (p.point_b - p.point_a - p.distance * p.normal).norm());
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   hedra::fuzz::FuzzInput in(data, size);
   Shape a, b;
@@ -787,5 +814,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   check_cached_frames(a, pose_a, b, pose_b, motion, tol, size_scale);
   if (std::holds_alternative<hedra::collision::Box>(a) && std::holds_alternative<hedra::collision::Box>(b))
     check_box_pair(a, pose_a, b, pose_b, c_ab, tol);
+  if (std::holds_alternative<hedra::collision::Box>(a) && std::holds_alternative<hedra::collision::Box>(b))
+    check_box_depth(a, pose_a, b, pose_b, p_ab, tol);
   return 0;
 }
