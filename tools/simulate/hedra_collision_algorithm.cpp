@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -55,50 +56,78 @@ void polygon_order(const collision::ContactResult& r, int (&order)[collision::kM
     for (int j = k; j > 1 && angle[order[j]] < angle[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
 }
 
-// What Bullet's points of a pair share: the combined material, as
+// Whether Bullet's points of the pair are friction anchors (either body
+// asks for them).
+int anchor_flag(const btCollisionObject* body0, const btCollisionObject* body1) {
+  const bool anchors =
+      (body0->getCollisionFlags() | body1->getCollisionFlags()) & btCollisionObject::CF_HAS_FRICTION_ANCHOR;
+  return anchors ? BT_CONTACT_FLAG_FRICTION_ANCHOR : 0;
+}
+
+// What the points Bullet writes for a pair share: the combined material, as
 // btManifoldResult::addContactPoint makes it, and the friction anchor flag.
 struct PairMaterial {
   double friction, restitution, rolling_friction, spinning_friction;
-  int flags = 0;
+  int flags;
   PairMaterial(const btCollisionObject* body0, const btCollisionObject* body1)
       : friction(btManifoldResult::calculateCombinedFriction(body0, body1)),
         restitution(btManifoldResult::calculateCombinedRestitution(body0, body1)),
         rolling_friction(btManifoldResult::calculateCombinedRollingFriction(body0, body1)),
-        spinning_friction(btManifoldResult::calculateCombinedSpinningFriction(body0, body1)) {
-    if ((body0->getCollisionFlags() | body1->getCollisionFlags()) & btCollisionObject::CF_HAS_FRICTION_ANCHOR)
-      flags |= BT_CONTACT_FLAG_FRICTION_ANCHOR;
+        spinning_friction(btManifoldResult::calculateCombinedSpinningFriction(body0, body1)),
+        flags(anchor_flag(body0, body1)) {}
+};
+
+// How Bullet holds a contact point: by its two material points (each in its
+// body's frame) and its world normal; its two world points and its distance
+// are what the material points read at the current poses
+// (btPersistentManifold::refreshContactPoints writes them so). measure()
+// writes them so for a point written or moved this frame, the same
+// arithmetic as Bullet's refresh, so the solver reads a new point exactly as
+// it would read it after one.
+void measure(btManifoldPoint& p, const btTransform& body0, const btTransform& body1) {
+  p.m_positionWorldOnA = body0(p.m_localPointA);
+  p.m_positionWorldOnB = body1(p.m_localPointB);
+  p.m_distance1 = (p.m_positionWorldOnA - p.m_positionWorldOnB).dot(p.m_normalWorldOnB);
+}
+
+// hedra's point `p` (normal `n` from A toward B) in the manifold's body
+// order (its body 0 is A unless `swapped`): the two surface points, the
+// normal on body 1 (from body 1 toward body 0), the signed distance (< 0
+// penetration), and the point on body 0 in its own frame, which is how
+// Bullet matches a new point to an old one.
+struct NewPoint {
+  btVector3 world0, world1, normal, local0;
+  double distance;
+  NewPoint(const collision::ContactPoint& p, const Eigen::Vector3d& n, const btTransform& body0, bool swapped)
+      : distance(-p.depth) {
+    const btVector3 on_a = to_bullet(p.point + 0.5 * p.depth * n), on_b = to_bullet(p.point - 0.5 * p.depth * n);
+    world0 = swapped ? on_b : on_a;
+    world1 = swapped ? on_a : on_b;
+    normal = to_bullet(swapped ? n : Eigen::Vector3d(-n));
+    local0 = body0.invXform(world0);
+  }
+  // The whole Bullet point, with the pair's material, measured (measure()).
+  btManifoldPoint written(const btTransform& body0, const btTransform& body1, const PairMaterial& material) const {
+    btManifoldPoint q(local0, body1.invXform(world1), normal, distance);
+    measure(q, body0, body1);
+    q.m_combinedFriction = material.friction;
+    q.m_combinedRestitution = material.restitution;
+    q.m_combinedRollingFriction = material.rolling_friction;
+    q.m_combinedSpinningFriction = material.spinning_friction;
+    q.m_contactPointFlags |= material.flags;
+    return q;
   }
 };
 
-// Bullet's point for hedra's point `p` (normal `n` from A toward B), in the
-// manifold's body order (its body 0 is A unless `swapped`), with the pair's
-// material.
-btManifoldPoint bullet_point(const collision::ContactPoint& p, const Eigen::Vector3d& n, const btTransform& body0,
-                             const btTransform& body1, bool swapped, const PairMaterial& material) {
-  const btVector3 on_a = to_bullet(p.point + 0.5 * p.depth * n), on_b = to_bullet(p.point - 0.5 * p.depth * n);
-  const btVector3 world0 = swapped ? on_b : on_a, world1 = swapped ? on_a : on_b;
-  // The normal on body 1, pointing from body 1 toward body 0.
-  btManifoldPoint q(body0.invXform(world0), body1.invXform(world1), to_bullet(swapped ? n : Eigen::Vector3d(-n)),
-                    -p.depth);
-  q.m_positionWorldOnA = world0;
-  q.m_positionWorldOnB = world1;
-  q.m_combinedFriction = material.friction;
-  q.m_combinedRestitution = material.restitution;
-  q.m_combinedRollingFriction = material.rolling_friction;
-  q.m_combinedSpinningFriction = material.spinning_friction;
-  q.m_contactPointFlags |= material.flags;
-  return q;
-}
-
 // The manifold's point that `q` continues, as Bullet's getCacheEntry finds
-// it (the nearest within the breaking threshold in body 0's frame), among
-// the points not written this frame; -1 if none.
-int continued(const btPersistentManifold& manifold, const btManifoldPoint& q,
+// it (the nearest within the breaking threshold `threshold` in body 0's
+// frame), among the points not written this frame; -1 if none.
+int continued(const btPersistentManifold& manifold, const NewPoint& q, double threshold,
               const bool (&fresh)[MANIFOLD_CACHE_SIZE]) {
   int match = -1;
-  double nearest = manifold.getContactBreakingThreshold() * manifold.getContactBreakingThreshold();
+  double nearest = threshold * threshold;
   for (int k = 0; k < manifold.getNumContacts(); ++k) {
-    const double d2 = (manifold.getContactPoint(k).m_localPointA - q.m_localPointA).length2();
+    const double d2 = (manifold.getContactPoint(k).m_localPointA - q.local0).length2();
     if (!fresh[k] && d2 < nearest) {
       nearest = d2;
       match = k;
@@ -109,10 +138,10 @@ int continued(const btPersistentManifold& manifold, const btManifoldPoint& q,
 
 // Bullet's friction anchor (btPersistentManifold::replaceContactPoint with
 // BT_CONTACT_FLAG_FRICTION_ANCHOR): the old point `old` is kept instead of
-// the new point `q` that continues it while its friction impulse stays
-// inside the Coulomb cone.
-bool anchor_holds(const btManifoldPoint& old, const btManifoldPoint& q) {
-  if (!(q.m_contactPointFlags & BT_CONTACT_FLAG_FRICTION_ANCHOR)) return false;
+// the new point that continues it while its friction impulse stays inside
+// the Coulomb cone.
+bool anchor_holds(const btManifoldPoint& old, int anchor) {
+  if (!(anchor & BT_CONTACT_FLAG_FRICTION_ANCHOR)) return false;
   const double lateral = old.m_appliedImpulseLateral1 * old.m_appliedImpulseLateral1 +
                          old.m_appliedImpulseLateral2 * old.m_appliedImpulseLateral2;
   const double cone = old.m_combinedFriction * old.m_appliedImpulse;
@@ -125,23 +154,19 @@ bool anchor_holds(const btManifoldPoint& old, const btManifoldPoint& q) {
 // material points part along the normal while the surfaces overlap as deep
 // as before, and the solver lets the body sink (a 20-hull pile, 0.1 to
 // 0.4 % of its size). Here the point on body 0 moves along the held normal
-// until the point reads `q`'s depth, if it read shallower. The held normal
-// stays (it is fixed in the world: given q's, which tilts with the bodies,
-// the 2 cm boxes on a unit box fell in 8 of 9 runs), and a point reading
-// deeper stays (raised too, one pile run in 40 ended 0.1 % deep). The
-// sideways offset of the two material points, which the refresh checks
-// against the breaking threshold, is unchanged.
-void deepen_held_anchor(btManifoldPoint& p, const btManifoldPoint& q, const btTransform& body0,
-                        const btTransform& body1) {
-  const btVector3 on0 = body0(p.m_localPointA), on1 = body1(p.m_localPointB);
-  const btVector3& n = p.m_normalWorldOnB;  // from body 1 toward body 0
-  const double reads = (on0 - on1).dot(n);  // < 0: penetration
-  if (reads <= q.m_distance1) return;
-  const btVector3 moved = on0 + n * (q.m_distance1 - reads);
+// until the point reads the new point's `distance`, if it read shallower.
+// `p` was refreshed this frame (its world points and distance are those of
+// its material points at the current poses). The held normal stays (it is
+// fixed in the world: given the new one, which tilts with the bodies, the
+// 2 cm boxes on a unit box fell in 8 of 9 runs), and a point reading deeper
+// stays (raised too, one pile run in 40 ended 0.1 % deep). The sideways
+// offset of the two material points, which the refresh checks against the
+// breaking threshold, is unchanged.
+void deepen_held_anchor(btManifoldPoint& p, double distance, const btTransform& body0, const btTransform& body1) {
+  if (p.m_distance1 <= distance) return;
+  const btVector3 moved = p.m_positionWorldOnA + p.m_normalWorldOnB * (distance - p.m_distance1);
   p.m_localPointA = body0.invXform(moved);
-  p.m_positionWorldOnA = moved;
-  p.m_positionWorldOnB = on1;
-  p.m_distance1 = q.m_distance1;
+  measure(p, body0, body1);
 }
 
 // Twice the largest area of a quadrilateral through four points, over the
@@ -157,14 +182,13 @@ double quad_area(const btVector3 (&p)[MANIFOLD_CACHE_SIZE]) {
 // this frame, the one whose replacement leaves the widest quadrilateral (the
 // area rule of Bullet's btPersistentManifold::sortCachedPoints, which keeps
 // the support of a resting body wide).
-int stale(const btPersistentManifold& manifold, const btManifoldPoint& q, const bool (&fresh)[MANIFOLD_CACHE_SIZE]) {
+int stale(const btPersistentManifold& manifold, const NewPoint& q, const bool (&fresh)[MANIFOLD_CACHE_SIZE]) {
   int out = -1;
   double widest = -1.0;
   for (int k = 0; k < MANIFOLD_CACHE_SIZE; ++k) {
     if (fresh[k]) continue;
     btVector3 p[MANIFOLD_CACHE_SIZE];
-    for (int j = 0; j < MANIFOLD_CACHE_SIZE; ++j)
-      p[j] = j == k ? q.m_localPointA : manifold.getContactPoint(j).m_localPointA;
+    for (int j = 0; j < MANIFOLD_CACHE_SIZE; ++j) p[j] = j == k ? q.local0 : manifold.getContactPoint(j).m_localPointA;
     const double area = quad_area(p);
     if (area > widest) {
       widest = area;
@@ -175,34 +199,52 @@ int stale(const btPersistentManifold& manifold, const btManifoldPoint& q, const 
 }
 
 // Bullet's merge of a frame's points into the persistent manifold, made for
-// a full manifold: the old points that no longer hold at the current poses
-// go first, a new point continues the old one Bullet would match (keeping
-// its warm start: btPersistentManifold::replaceContactPoint; a held friction
-// anchor made at least as deep as the new point, deepen_held_anchor()), and
-// a new point never evicts another of the same frame (Bullet's area rule,
-// made for one new point a frame, may).
+// a full manifold, in three steps:
+//   1. refresh: the old points are re-measured at the current poses (their
+//      material points) and those that no longer hold go (Bullet's
+//      refreshContactPoints: apart beyond the breaking threshold, or slid
+//      sideways past it). It is the frame's only refresh: the points written
+//      below are measured as it would measure them (measure()).
+//   2. match: each new point continues the old one Bullet would match
+//      (continued()); a held friction anchor stays, made at least as deep as
+//      the new point (deepen_held_anchor()), else the new point replaces it
+//      keeping its warm start (btPersistentManifold::replaceContactPoint).
+//   3. add: an unmatched new point takes a free slot, or in a full manifold
+//      the old point whose replacement leaves the widest quadrilateral
+//      (stale()); it never evicts another of the same frame (Bullet's area
+//      rule, made for one new point a frame, may).
+// A held anchor needs only the new point's distance: the whole Bullet point,
+// and the pair's combined material, are made only where a point is written
+// (a resting pair's anchors mostly hold).
 void merge_points(const collision::ContactResult& r, const int (&order)[collision::kMaxContactPoints],
                   const btCollisionObject* a, btPersistentManifold& manifold) {
-  const btTransform& body0 = manifold.getBody0()->getWorldTransform();
-  const btTransform& body1 = manifold.getBody1()->getWorldTransform();
+  const btCollisionObject* object0 = manifold.getBody0();
+  const btCollisionObject* object1 = manifold.getBody1();
+  const btTransform& body0 = object0->getWorldTransform();
+  const btTransform& body1 = object1->getWorldTransform();
   manifold.refreshContactPoints(body0, body1);
   if (r.count == 0) return;
+  const double threshold = manifold.getContactBreakingThreshold();
+  const int anchor = anchor_flag(object0, object1);
+  std::optional<PairMaterial> material;
+  const auto written = [&](const NewPoint& q) {
+    if (!material) material.emplace(object0, object1);
+    return q.written(body0, body1, *material);
+  };
   bool fresh[MANIFOLD_CACHE_SIZE] = {};
-  const bool swapped = manifold.getBody0() != a;
-  const PairMaterial material(manifold.getBody0(), manifold.getBody1());
   for (int i = 0; i < r.count && i < MANIFOLD_CACHE_SIZE; ++i) {
-    const btManifoldPoint q = bullet_point(r.points[order[i]], r.normal, body0, body1, swapped, material);
-    int slot = continued(manifold, q, fresh);
-    if (slot >= 0 && anchor_holds(manifold.getContactPoint(slot), q)) {
-      deepen_held_anchor(manifold.getContactPoint(slot), q, body0, body1);
+    const NewPoint q(r.points[order[i]], r.normal, body0, object0 != a);
+    int slot = continued(manifold, q, threshold, fresh);
+    if (slot >= 0 && anchor_holds(manifold.getContactPoint(slot), anchor)) {
+      deepen_held_anchor(manifold.getContactPoint(slot), q.distance, body0, body1);
     } else if (slot >= 0) {
-      manifold.replaceContactPoint(q, slot);
+      manifold.replaceContactPoint(written(q), slot);
     } else if (manifold.getNumContacts() < MANIFOLD_CACHE_SIZE) {
-      slot = manifold.addManifoldPoint(q, true);
+      slot = manifold.addManifoldPoint(written(q), true);
     } else {
       slot = stale(manifold, q, fresh);  // some point is old: at most 3 of 4 written yet
       btAssert(slot >= 0);
-      manifold.getContactPoint(slot) = q;
+      manifold.getContactPoint(slot) = written(q);
     }
     fresh[slot] = true;
   }
@@ -263,7 +305,7 @@ double origin_radius(const btCollisionShape* shape) {
 
 collision::Pose CachedShape::pose(const btTransform& world) const {
   collision::Pose p = to_pose(world);
-  p.translation = p.apply(offset);
+  if (offset != Eigen::Vector3d::Zero()) p.translation = p.apply(offset);  // a hull's centroid; zero for the primitives
   return p;
 }
 
@@ -329,18 +371,17 @@ void HedraCollisionAlgorithm::processCollision(const btCollisionObjectWrapper* a
   ++g_queries;
   int order[collision::kMaxContactPoints];
   polygon_order(r, order);
+  g_points += r.count;
   if (update_ == ManifoldUpdate::keep_new) {
-    merge_points(r, order, a->getCollisionObject(), *manifold_);
-    g_points += r.count;
-  } else {
-    for (int i = 0; i < r.count; ++i) {
-      const collision::ContactPoint& p = r.points[order[i]];
-      const Eigen::Vector3d on_b = p.point - 0.5 * p.depth * r.normal;
-      result->addContactPoint(to_bullet(-r.normal), to_bullet(on_b), -p.depth);
-      ++g_points;
-    }
+    merge_points(r, order, a->getCollisionObject(), *manifold_);  // refreshes the manifold once
+    return;
   }
-  if (own_manifold_) result->refreshContactPoints();
+  for (int i = 0; i < r.count; ++i) {  // Bullet's own merge, a point at a time, then its refresh
+    const collision::ContactPoint& p = r.points[order[i]];
+    const Eigen::Vector3d on_b = p.point - 0.5 * p.depth * r.normal;
+    result->addContactPoint(to_bullet(-r.normal), to_bullet(on_b), -p.depth);
+  }
+  result->refreshContactPoints();
 }
 
 double HedraCollisionAlgorithm::speculative_distance(const btCollisionObject* a, const btCollisionObject* b,

@@ -41,7 +41,10 @@
 // visits them; see polygon_order()). The keep_new merge writes Bullet's
 // points itself: it sets the combined friction, restitution, rolling and
 // spinning friction and the friction anchor, not contact stiffness or
-// damping, and calls no gContactAddedCallback.
+// damping, and calls no gContactAddedCallback. It refreshes the manifold
+// once a frame, before the merge (gContactProcessedCallback sees the points
+// carried over, not the new ones), and writes each point as that refresh
+// would measure it.
 #pragma once
 
 #include <BulletCollision/CollisionDispatch/btActivatingCollisionAlgorithm.h>
