@@ -36,6 +36,7 @@
 #include "contact_choice.hpp"
 #include "contact_depth.hpp"
 #include "query_detail.hpp"
+#include "segment_box.hpp"
 
 namespace hedra::collision::detail {
 namespace box_box {
@@ -122,31 +123,7 @@ void edge_axes(const Pair& p, double parallel_tolerance, double floor, Axes& out
 using detail::choose_axis;  // contact_choice.hpp, shared with the general polytope path
 // ---- edge contact ------------------------------------------------------------
 
-// Closest points of segments p0 + s u and q0 + t v, s, t in [0, 1]
-// (Ericson 5.1.9, guarded divisions).
-void closest_on_segments(const Vec& p0, const Vec& u, const Vec& q0, const Vec& v, Vec& on_p, Vec& on_q) {
-  const Vec r = p0 - q0;
-  const double a = u.squaredNorm(), e = v.squaredNorm(), f = v.dot(r);
-  double s = 0.0, t = 0.0;
-  if (a > 0.0 && e > 0.0) {
-    const double c = u.dot(r), b = u.dot(v), denom = a * e - b * b;
-    s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-    t = (b * s + f) / e;
-    if (t < 0.0) {
-      t = 0.0;
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else if (t > 1.0) {
-      t = 1.0;
-      s = std::clamp((b - c) / a, 0.0, 1.0);
-    }
-  } else if (a > 0.0) {
-    s = std::clamp(-u.dot(r) / a, 0.0, 1.0);
-  } else if (e > 0.0) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  }
-  on_p = p0 + s * u;
-  on_q = q0 + t * v;
-}
+using detail::closest_segment_points;  // segment_box.hpp, shared with the general polytope path
 // ---- the manifold -------------------------------------------------------------
 
 // The answer in A's frame (world placement last, shared with the cache);
@@ -212,8 +189,7 @@ void emit(Candidate* c, int count, const Vec& normal, const Pair& p, Local& out)
 }
 
 // contact_polytopes.cpp's build_manifold for a sharp pair on axis `best`.
-Built build(const Pair& p, const SatAxis& best, double exact_limit, Local& out,
-            int& clipped) {
+Built build(const Pair& p, const SatAxis& best, double exact_limit, Local& out, int& clipped) {
   std::array<Candidate, kMaxContactPoints> c;
   int count = 0;
   const bool apart = best.separation > p.band;
@@ -231,7 +207,7 @@ Built build(const Pair& p, const SatAxis& best, double exact_limit, Local& out,
     const Index b_from = topo.origin[eb], b_to = topo.origin[topo.twin[eb]];
     const Vec pa0 = sa.point(a_from), pa1 = sa.point(a_to), pb0 = sb.point(b_from), pb1 = sb.point(b_to);
     Vec on_a, on_b;
-    closest_on_segments(pa0, pa1 - pa0, pb0, pb1 - pb0, on_a, on_b);
+    closest_segment_points(pa0, pa1 - pa0, pb0, pb1 - pb0, on_a, on_b);
     FeatureId id;
     id.kind = FeatureKind::edge;
     id.reference = ea;

@@ -6,8 +6,8 @@
 
 #include <Eigen/Core>
 #include <array>
-#include <hedra/collision/manifold.hpp>
 #include <hedra/collision/detail/sat.hpp>
+#include <hedra/collision/manifold.hpp>
 
 namespace hedra::collision::detail::box_box {
 

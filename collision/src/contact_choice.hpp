@@ -11,8 +11,8 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <hedra/collision/manifold.hpp>
 #include <hedra/collision/detail/sat.hpp>
+#include <hedra/collision/manifold.hpp>
 #include <limits>
 
 namespace hedra::collision::detail {

@@ -18,9 +18,9 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <hedra/collision/halfspace.hpp>
 #include <hedra/collision/detail/support.hpp>
 #include <hedra/collision/detail/vector_math.hpp>
+#include <hedra/collision/halfspace.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
 #include <variant>

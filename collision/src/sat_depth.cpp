@@ -38,7 +38,6 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kTinySine = 1e-13;
 constexpr std::size_t kMaxDegree = 64;
 
-
 // The running answer: the largest separation, its error, the smallest
 // certified lower bound of the depth, and the slack of skipped slivers.
 struct Tally {
@@ -122,8 +121,8 @@ bool inside(const Polygon& poly, const Vec2& q, double tol) {
 // The reference face f of `ref` (its frame), the incident polytope mapped
 // into it by x -> m x + c: a point on each surface with on_inc - on_ref
 // along the face normal, or false.
-bool face_witness(const SatPolytope& ref, hull::Index f, const SatPolytope& inc, const Eigen::Matrix3d& m,
-                  const Vec& c, double tol, Vec& on_ref, Vec& on_inc) {
+bool face_witness(const SatPolytope& ref, hull::Index f, const SatPolytope& inc, const Eigen::Matrix3d& m, const Vec& c,
+                  double tol, Vec& on_ref, Vec& on_inc) {
   const hull::Plane& plane = ref.plane(f);
   const Vec& n = plane.normal;
   const hull::HalfEdgeMesh& mr = *ref.mesh;

@@ -28,8 +28,8 @@
 namespace hedra::collision::detail {
 
 struct SatDepth {
-  double distance = 0.0;     // minus the depth (<= 0), cores
-  double error_bound = 0.0;  // the true depth is within this of -distance
+  double distance = 0.0;                             // minus the depth (<= 0), cores
+  double error_bound = 0.0;                          // the true depth is within this of -distance
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, A toward B, A's core frame
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();

@@ -27,8 +27,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <hedra/collision/query.hpp>
 #include <hedra/collision/detail/support.hpp>
+#include <hedra/collision/query.hpp>
 #include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>

@@ -13,8 +13,8 @@
 #include <cmath>
 #include <exact_reference.hpp>
 #include <hedra/collision/detail/minkowski.hpp>
-#include <hedra/collision/shapes.hpp>
 #include <hedra/collision/detail/support.hpp>
+#include <hedra/collision/shapes.hpp>
 #include <limits>
 #include <memory>
 #include <qhull_reference.hpp>

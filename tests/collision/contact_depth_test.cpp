@@ -69,9 +69,10 @@ std::vector<Pair> hard_pairs(int per_family, std::uint64_t seed) {
   for (int i = 0; i < per_family; ++i) {
     // Deep: a small body well inside a large one, near its boundary or not.
     const Shape big = i % 2 ? Shape{Box{random_scale(rng, 0.8, 1.2)}} : hull_of(rng, random_scale(rng, 0.8, 1.2), 0.0);
-    const Shape little = i % 3 ? hull_of(rng, random_scale(rng, 0.1, 0.3), 0.0) : Shape{Box{random_scale(rng, 0.1, 0.3)}};
-    pairs.push_back({big, little, random_pose(rng, Vec::Zero()), random_pose(rng, 0.5 * Vec(u(rng), u(rng), u(rng))),
-                     "deep"});
+    const Shape little =
+        i % 3 ? hull_of(rng, random_scale(rng, 0.1, 0.3), 0.0) : Shape{Box{random_scale(rng, 0.1, 0.3)}};
+    pairs.push_back(
+        {big, little, random_pose(rng, Vec::Zero()), random_pose(rng, 0.5 * Vec(u(rng), u(rng), u(rng))), "deep"});
     // Polytopes overlapping by a fraction of their size.
     pairs.push_back({hull_of(rng, random_scale(rng, 0.4, 1.0), 0.0), hull_of(rng, random_scale(rng, 0.4, 1.0), 0.0),
                      random_pose(rng, Vec::Zero()), random_pose(rng, 0.8 * random_unit(rng)), "polytopes"});
@@ -83,18 +84,22 @@ std::vector<Pair> hard_pairs(int per_family, std::uint64_t seed) {
     Vec ha = random_scale(rng, 0.3, 1.0), hb = random_scale(rng, 0.3, 1.0);
     ha.z() = 0.005;
     hb.z() = 0.005;
-    pairs.push_back({Box{ha}, Box{hb}, random_pose(rng, Vec::Zero()), random_pose(rng, 0.3 * random_unit(rng)), "thin"});
+    pairs.push_back(
+        {Box{ha}, Box{hb}, random_pose(rng, Vec::Zero()), random_pose(rng, 0.3 * random_unit(rng)), "thin"});
     // Far from the origin.
     const Vec far = 1e5 * random_unit(rng);
     pairs.push_back({hull_of(rng, random_scale(rng, 0.4, 1.0), 0.0), Box{random_scale(rng, 0.3, 1.0)},
                      random_pose(rng, far), random_pose(rng, far + 0.8 * random_unit(rng)), "far"});
     // Rounded polytopes.
-    pairs.push_back({Box{random_scale(rng, 0.3, 1.0), margin(rng)}, hull_of(rng, random_scale(rng, 0.4, 1.0), margin(rng)),
-                     random_pose(rng, Vec::Zero()), random_pose(rng, 0.9 * random_unit(rng)), "rounded"});
+    pairs.push_back({Box{random_scale(rng, 0.3, 1.0), margin(rng)},
+                     hull_of(rng, random_scale(rng, 0.4, 1.0), margin(rng)), random_pose(rng, Vec::Zero()),
+                     random_pose(rng, 0.9 * random_unit(rng)), "rounded"});
     // Curved shapes against polytopes.
     const Shape poly = i % 2 ? Shape{Box{random_scale(rng, 0.3, 1.0)}} : hull_of(rng, random_scale(rng, 0.4, 1.0), 0.0);
     const double r = small(rng), h = 2.0 * small(rng);
-    const Shape curved = i % 3 == 0 ? Shape{Capsule{r, h, 0.0}} : i % 3 == 1 ? Shape{Cylinder{r, h, 0.0}} : Shape{Cone{r, h, 0.0}};
+    const Shape curved = i % 3 == 0   ? Shape{Capsule{r, h, 0.0}}
+                         : i % 3 == 1 ? Shape{Cylinder{r, h, 0.0}}
+                                      : Shape{Cone{r, h, 0.0}};
     pairs.push_back({poly, curved, random_pose(rng, Vec::Zero()), random_pose(rng, 0.7 * random_unit(rng)), "curved"});
   }
   return pairs;
@@ -194,9 +199,9 @@ void check_bounds(const std::vector<Pair>& pairs, bool warm) {
         EXPECT_LE(c.distance, exact.distance + exact.error_bound + 1e-12 * size) << p.family;
         continue;
       }
-      EXPECT_TRUE(std::isfinite(c.error_bound)) << p.family << (apart ? " apart" : " penetrating") << " path "
-                                                 << to_string(c.path) << " distance " << c.distance << " exact "
-                                                 << exact.distance << " size " << size;
+      EXPECT_TRUE(std::isfinite(c.error_bound))
+          << p.family << (apart ? " apart" : " penetrating") << " path " << to_string(c.path) << " distance "
+          << c.distance << " exact " << exact.distance << " size " << size;
       EXPECT_LE(std::abs(c.distance - exact.distance), c.error_bound + exact.error_bound)
           << p.family << (apart ? " apart" : " penetrating") << " path " << to_string(c.path) << " distance "
           << c.distance << " exact " << exact.distance;

@@ -14,8 +14,8 @@
 #include <cmath>
 #include <cstdio>
 #include <hedra/collision/detail/gjk.hpp>
-#include <hedra/collision/query.hpp>
 #include <hedra/collision/detail/revolution_polytope.hpp>
+#include <hedra/collision/query.hpp>
 #include <random>
 
 #include "collision_test_support.hpp"

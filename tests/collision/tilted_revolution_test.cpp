@@ -18,8 +18,8 @@
 #include <array>
 #include <cmath>
 #include <hedra/collision/detail/gjk.hpp>
-#include <hedra/collision/query.hpp>
 #include <hedra/collision/detail/tilted_revolution.hpp>
+#include <hedra/collision/query.hpp>
 #include <random>
 
 #include "collision_test_support.hpp"

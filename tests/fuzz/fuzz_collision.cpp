@@ -600,7 +600,8 @@ void check_box_depth(const Shape& a, const Pose& pose_a, const Shape& b, const P
                    "box pair: penetration %.17g (bound %.3g), as hulls %.17g (bound %.3g)", p.distance, p.error_bound,
                    e.distance, e.error_bound);
   HEDRA_FUZZ_CHECK((p.point_b - p.point_a - p.distance * p.normal).norm() <= tol,
-                   "box pair: witnesses off the normal by %.3g", (p.point_b - p.point_a - p.distance * p.normal).norm());
+                   "box pair: witnesses off the normal by %.3g",
+                   (p.point_b - p.point_a - p.distance * p.normal).norm());
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -39,8 +39,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <hedra/collision/query.hpp>
 #include <hedra/collision/detail/support.hpp>
+#include <hedra/collision/query.hpp>
 #include <limits>
 #include <memory>
 #include <random>

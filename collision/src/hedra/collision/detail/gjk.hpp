@@ -25,8 +25,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <hedra/collision/settings.hpp>
 #include <hedra/collision/detail/vector_math.hpp>
+#include <hedra/collision/settings.hpp>
 #include <hedra/hull/assert.hpp>
 #include <limits>
 

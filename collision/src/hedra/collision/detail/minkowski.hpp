@@ -25,9 +25,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <hedra/collision/detail/support.hpp>
 #include <hedra/collision/pose.hpp>
 #include <hedra/collision/settings.hpp>
-#include <hedra/collision/detail/support.hpp>
 #include <limits>
 
 namespace hedra::collision {

@@ -38,8 +38,8 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
-#include <hedra/collision/shapes.hpp>
 #include <hedra/collision/detail/vector_math.hpp>
+#include <hedra/collision/shapes.hpp>
 #include <limits>
 
 #if defined(__SSE2__)
